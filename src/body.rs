@@ -1,0 +1,179 @@
+//! The validated flexible body: the file's numbers as the matrices the solvers want,
+//! with the checks Radioss does not make. No I/O here.
+
+use nalgebra::{DMatrix, DVector, Matrix3};
+
+use crate::fxb::FxbFile;
+
+/// Rayleigh damping `C_L = alpha diag(m_L) + beta K_L` (block 4); zero when absent.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Rayleigh {
+    /// Mass-proportional coefficient (1/s).
+    pub alpha: f64,
+    /// Stiffness-proportional coefficient (s).
+    pub beta: f64,
+}
+
+/// A flexible body ready for simulation.
+///
+/// Mode matrices have one row per node DOF: row `6 * n + c` is node `n` (position in
+/// `node_ids`), component `c` (X Y Z XX YY ZZ). Local modes are in the local frame,
+/// rigid modes in the global frame (FORMULATION.md section 1).
+#[derive(Debug, Clone)]
+pub struct Body {
+    /// Node IDs in file order.
+    pub node_ids: Vec<i64>,
+    /// Number of static modes (the first `nbstat` local modes).
+    pub nbstat: usize,
+    /// Nodes carry rotational DOFs (15 rigid modes when free).
+    pub irot: bool,
+    /// Blocked body: no rigid motion.
+    pub iblo: bool,
+    /// Ifile flag, kept only to write the file back; no effect on results.
+    pub ifile: bool,
+    /// Initial frame P0 (column j = local axis j in global components).
+    pub p0: Matrix3<f64>,
+    /// Largest eigenfrequency as stored in the file (Hz).
+    pub freq_file: f64,
+    /// Rayleigh damping, `None` when the file has no block 4.
+    pub damping: Option<Rayleigh>,
+    /// Rigid modes, `6 N x nR` (empty for a blocked body).
+    pub phi_r: DMatrix<f64>,
+    /// Local modes, `6 N x nL`.
+    pub phi_l: DMatrix<f64>,
+    /// Diagonal local mass m_L.
+    pub m_l: DVector<f64>,
+    /// Local stiffness K_L, symmetric `nL x nL`.
+    pub k_l: DMatrix<f64>,
+    /// Rigid mass M_R, symmetric `nR x nR` (empty for a blocked body).
+    pub m_r: DMatrix<f64>,
+    /// Coupled mass sub-blocks M_C,kl at index `3(k-1)+(l-1)`, each `nR x nL`.
+    pub m_c: Vec<DMatrix<f64>>,
+    /// Coupled stiffness sub-blocks K_C,kl at index `3(k-1)+(l-1)`, each `nR x nL`.
+    pub k_c: Vec<DMatrix<f64>>,
+    /// Eigenfrequencies of (K_L, m_L) in Hz, ascending.
+    pub frequencies_hz: Vec<f64>,
+    /// Non-fatal findings (for example stored Freq far from the computed one).
+    pub warnings: Vec<String>,
+}
+
+impl Body {
+    /// Number of local modes nL.
+    pub fn nl(&self) -> usize {
+        self.m_l.len()
+    }
+
+    /// Number of rigid modes nR (0 for a blocked body).
+    pub fn nr(&self) -> usize {
+        self.phi_r.ncols()
+    }
+
+    /// Number of nodes N.
+    pub fn nnodes(&self) -> usize {
+        self.node_ids.len()
+    }
+
+    /// Position of a node ID in the node list.
+    pub fn node_index(&self, id: i64) -> Option<usize> {
+        self.node_ids.iter().position(|&n| n == id)
+    }
+
+    /// Assemble the matrices from the raw file, following the storage orders of
+    /// FORMULATION.md section 1. The counts in `file` must already be consistent.
+    pub fn assemble(file: &FxbFile) -> Body {
+        let n = file.nbnod;
+        let nl = file.nbmod;
+        let ns = file.nbstat;
+        let nr = file.nr();
+        let modes = |data: &[f64], count: usize| {
+            DMatrix::from_fn(6 * n, count, |row, mode| data[mode * 6 * n + row])
+        };
+        let mut k_l = DMatrix::zeros(nl, nl);
+        for r in 0..ns {
+            // Row r (0-based) starts after sum_{q<r} (nl - q) values.
+            let start = r * (2 * nl - r + 1) / 2;
+            for c in r..nl {
+                let v = file.k_full[start + (c - r)];
+                k_l[(r, c)] = v;
+                k_l[(c, r)] = v;
+            }
+        }
+        for r in ns..nl {
+            k_l[(r, r)] = file.k_diag[r - ns];
+        }
+        let mut m_r = DMatrix::zeros(nr, nr);
+        let mut idx = 0;
+        for i in 0..nr {
+            for j in i..nr {
+                m_r[(i, j)] = file.m_r[idx];
+                m_r[(j, i)] = file.m_r[idx];
+                idx += 1;
+            }
+        }
+        let sub = |data: &[f64]| -> Vec<DMatrix<f64>> {
+            if data.is_empty() {
+                return vec![DMatrix::zeros(nr, nl); 9];
+            }
+            (0..9)
+                .map(|m| DMatrix::from_fn(nr, nl, |i, j| data[m * nr * nl + i * nl + j]))
+                .collect()
+        };
+        let p = &file.p0;
+        let m_l = DVector::from_column_slice(&file.m_l);
+        let frequencies_hz = eigenfrequencies_hz(&k_l, &m_l);
+        Body {
+            node_ids: file.node_ids.clone(),
+            nbstat: ns,
+            irot: file.irot,
+            iblo: file.iblo,
+            ifile: file.ifile,
+            p0: Matrix3::new(p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], p[8]),
+            freq_file: file.freq,
+            damping: file.damping.map(|(alpha, beta)| Rayleigh { alpha, beta }),
+            phi_r: modes(&file.rigid_modes, nr),
+            phi_l: modes(&file.local_modes, nl),
+            m_l,
+            k_l,
+            m_r,
+            m_c: sub(&file.m_c),
+            k_c: sub(&file.k_c),
+            frequencies_hz,
+            warnings: Vec::new(),
+        }
+    }
+}
+
+/// Eigenfrequencies (Hz, ascending) of `K x = w^2 diag(m) x`, from the symmetric
+/// mass-scaled matrix `m^-1/2 K m^-1/2`. Negative round-off eigenvalues read as 0 Hz.
+pub fn eigenfrequencies_hz(k: &DMatrix<f64>, m: &DVector<f64>) -> Vec<f64> {
+    let n = m.len();
+    if n == 0 {
+        return Vec::new();
+    }
+    let s = m.map(|v| 1.0 / v.sqrt());
+    let scaled = DMatrix::from_fn(n, n, |i, j| k[(i, j)] * s[i] * s[j]);
+    let mut f: Vec<f64> = scaled
+        .symmetric_eigenvalues()
+        .iter()
+        .map(|&l| l.max(0.0).sqrt() / (2.0 * std::f64::consts::PI))
+        .collect();
+    f.sort_by(f64::total_cmp);
+    f
+}
+
+/// Stable step of the explicit central-difference scheme for a largest frequency
+/// `freq_hz` (FORMULATION.md section 4): `2/omega` undamped, and with stiffness damping
+/// `beta > 0` the smaller of `(sqrt(beta^2 omega^2 + 4) - beta omega)/omega` and
+/// `2/(beta omega^2)`. Infinite for a body with no stiffness.
+pub fn stable_step(freq_hz: f64, beta: f64) -> f64 {
+    let omega = 2.0 * std::f64::consts::PI * freq_hz;
+    if omega <= 0.0 {
+        return f64::INFINITY;
+    }
+    if beta > 0.0 {
+        let a = ((beta * beta * omega * omega + 4.0).sqrt() - beta * omega) / omega;
+        a.min(2.0 / (beta * omega * omega))
+    } else {
+        2.0 / omega
+    }
+}

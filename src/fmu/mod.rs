@@ -1,0 +1,1 @@
+//! modelDescription.xml from a scene, and packaging the `.fmu` archive.

@@ -1,0 +1,13 @@
+//! fxbody: a Radioss flexible-body file (`/FXBODY`, `.fxb`) as an FMI 2.0 co-simulation
+//! unit.
+//!
+//! Data flows one way: text ([`fxb`]) -> validated body ([`body`]) -> scene ([`scene`]) ->
+//! solver ([`solver`]) -> FMI boundary ([`fmi`]); [`fmu`] writes the description and the
+//! package.
+
+pub mod body;
+pub mod fmi;
+pub mod fmu;
+pub mod fxb;
+pub mod scene;
+pub mod solver;

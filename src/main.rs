@@ -1,0 +1,6 @@
+//! The `fxbody` command: a thin layer over the library.
+
+fn main() {
+    eprintln!("fxbody: no commands yet");
+    std::process::exit(2);
+}

@@ -1,0 +1,135 @@
+//! Time integration of a flexible body, independent of FMI. One trait, one file per
+//! method. A solver is built from a [`Scene`] and only computes loads and outputs for the
+//! scene's exposed nodes.
+
+use crate::scene::Scene;
+
+/// Integration method. The numbers are the FMI enumeration values.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Method {
+    /// The Radioss central-difference scheme, sub-cycled at 0.9 dt_fx.
+    Explicit = 1,
+    /// Generalised-alpha (Chung-Hulbert), not bound by dt_fx.
+    Implicit = 2,
+    /// Exact modal stepping (blocked bodies only).
+    Exact = 3,
+}
+
+/// Settings shared by the methods.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Options {
+    /// Spectral radius at infinite frequency for the implicit method, in [0, 1].
+    pub rho_inf: f64,
+    /// Fraction of the stable step used by the explicit method's internal steps.
+    pub dt_factor: f64,
+    /// Sub-cycle the explicit method (tests switch it off to show the instability).
+    pub subcycle: bool,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            rho_inf: 0.9,
+            dt_factor: 0.9,
+            subcycle: true,
+        }
+    }
+}
+
+/// Why a solver could not be built or could not step.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SolverError {
+    /// A method was asked for a body it does not handle.
+    #[error("method {method:?} does not handle this body: {why}")]
+    Unsupported {
+        /// The method asked for.
+        method: Method,
+        /// Why not.
+        why: String,
+    },
+    /// A step size that is not finite and positive.
+    #[error("step size must be finite and > 0, got {0}")]
+    BadStep(f64),
+    /// A slice of the wrong length was passed.
+    #[error("{what}: expected {expected} values, got {found}")]
+    BadLength {
+        /// Which argument.
+        what: &'static str,
+        /// Expected length.
+        expected: usize,
+        /// Given length.
+        found: usize,
+    },
+    /// A saved state that does not belong to this solver.
+    #[error("state does not fit this solver: {0}")]
+    BadState(String),
+    /// The body cannot be simulated (for example a singular rigid mass).
+    #[error("body cannot be simulated: {0}")]
+    Singular(String),
+}
+
+/// A complete solver state, for FMU state get/set, serialisation and rollback.
+#[derive(Debug, Clone, PartialEq)]
+pub struct State {
+    /// The method that saved it.
+    pub method: Method,
+    /// All numbers the method needs to continue bit for bit (layout private to it).
+    pub data: Vec<f64>,
+}
+
+/// The frame of a free body: position of L0 and P (row-major).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Frame {
+    /// Global position of L0.
+    pub origin: [f64; 3],
+    /// P, row-major (column j is local axis j).
+    pub p: [f64; 9],
+}
+
+/// A time integrator over one scene.
+///
+/// Loads are per exposed node, six values each (fx fy fz mx my mz, global frame), held
+/// over a step, or varying linearly when rates are given. Outputs are per exposed node,
+/// three values each. `step` never allocates.
+pub trait Solver: Send {
+    /// The method this solver runs.
+    fn method(&self) -> Method;
+    /// Simulated time since the start.
+    fn time(&self) -> f64;
+    /// Set the loads at the current time (6 per exposed node).
+    fn set_loads(&mut self, loads: &[f64]) -> Result<(), SolverError>;
+    /// Set load rates (6 per exposed node, per second): over the next steps the load is
+    /// `loads + rate (t - t_set)`. Rates persist until set again; zeros mean held loads.
+    fn set_load_rates(&mut self, rates: &[f64]) -> Result<(), SolverError>;
+    /// Advance by `h > 0`.
+    fn step(&mut self, h: f64) -> Result<(), SolverError>;
+    /// Global positions of the exposed nodes (3 per node).
+    fn positions(&self, out: &mut [f64]);
+    /// Global velocities of the exposed nodes (3 per node).
+    fn velocities(&self, out: &mut [f64]);
+    /// Global accelerations of the exposed nodes (3 per node).
+    fn accelerations(&self, out: &mut [f64]);
+    /// Global rotation rates of the exposed nodes (3 per node; zeros without rotational DOFs).
+    fn rotation_rates(&self, out: &mut [f64]);
+    /// Local modal coordinates alpha.
+    fn modal(&self) -> &[f64];
+    /// Strain energy `1/2 alpha^T K_L alpha`.
+    fn strain_energy(&self) -> f64;
+    /// Kinetic energy (FORMULATION.md section 3).
+    fn kinetic_energy(&self) -> f64;
+    /// The moving frame, for free bodies; `None` for blocked ones.
+    fn frame(&self) -> Option<Frame>;
+    /// Save the complete state.
+    fn state(&self) -> State;
+    /// Restore a state saved by a solver built from the same scene and method.
+    fn set_state(&mut self, state: &State) -> Result<(), SolverError>;
+}
+
+/// Build a solver for a scene with the chosen method.
+pub fn build(scene: &Scene, method: Method, opts: &Options) -> Result<Box<dyn Solver>, SolverError> {
+    let _ = (scene, opts);
+    Err(SolverError::Unsupported {
+        method,
+        why: "not implemented yet".into(),
+    })
+}
