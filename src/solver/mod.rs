@@ -126,7 +126,11 @@ pub trait Solver: Send {
 }
 
 /// Build a solver for a scene with the chosen method.
-pub fn build(scene: &Scene, method: Method, opts: &Options) -> Result<Box<dyn Solver>, SolverError> {
+pub fn build(
+    scene: &Scene,
+    method: Method,
+    opts: &Options,
+) -> Result<Box<dyn Solver>, SolverError> {
     let _ = (scene, opts);
     Err(SolverError::Unsupported {
         method,
