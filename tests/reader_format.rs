@@ -208,6 +208,13 @@ fn fixed_tabs_and_d_exponent_variants_read_the_same_numbers() {
     let fixed = read("fmt_fixed.fxb");
     assert_eq!(read("fmt_tabs.fxb"), fixed);
     assert_eq!(read("fmt_dexp.fxb"), fixed);
+    let text = std::fs::read(data("fmt_fixed.fxb")).unwrap();
+    let bom = [b"\xEF\xBB\xBF".as_slice(), &text].concat();
+    assert_eq!(
+        fxb::parse(&bom, "bom.fxb").unwrap(),
+        fixed,
+        "a byte-order mark is skipped"
+    );
     assert_eq!(fixed.node_ids, vec![7, 9]);
     assert!(fixed.iblo && fixed.irot && fixed.idamp && fixed.ifile);
     assert_eq!(fixed.damping, Some((0.5, 1.0e-4)));
