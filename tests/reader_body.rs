@@ -188,6 +188,22 @@ fn stiffness_must_be_positive_semi_definite() {
 }
 
 #[test]
+fn overflowing_matrices_are_refused_not_passed_as_nan() {
+    let mut f = read("fmt_fixed.fxb");
+    f.k_full = vec![1e308, -1e308];
+    f.k_diag = vec![1e308];
+    f.m_l = vec![1e-300, 1e-300];
+    let (e, msg) = body_err(&f);
+    assert!(matches!(e, BodyError::Overflow { .. }), "{msg}");
+    // Large but representable numbers are not an overflow: M_R scaled by 1e300 is a
+    // valid (absurdly heavy) body.
+    let mut f = read("body_b0_r0_d0.fxb");
+    f.m_r.iter_mut().for_each(|v| *v *= 1e300);
+    let b = Body::from_fxb(&f, "b.fxb").unwrap();
+    assert!((b.total_mass().unwrap() / 5e300 - 1.0).abs() < 1e-8);
+}
+
+#[test]
 fn rigid_mass_must_be_positive_semi_definite() {
     let mut f = read("body_b0_r0_d0.fxb");
     f.m_r[0] = -1.0e3;

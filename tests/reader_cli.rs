@@ -166,3 +166,70 @@ fn info_on_a_bad_file_exits_2_with_the_line() {
     assert!(String::from_utf8_lossy(&labels.stderr).contains("block 3"));
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// The number after `"key":` in a JSON text (first occurrence).
+fn json_number(text: &str, key: &str) -> Option<f64> {
+    let at = text.find(&format!("\"{key}\":"))? + key.len() + 3;
+    let rest = text[at..].trim_start();
+    let end = rest.find([',', '}', '\n']).unwrap_or(rest.len());
+    rest[..end].trim().parse().ok()
+}
+
+/// The array of numbers after `"key":` in a JSON text (first occurrence).
+fn json_array(text: &str, key: &str) -> Option<Vec<f64>> {
+    let at = text.find(&format!("\"{key}\":"))? + key.len() + 3;
+    let rest = text[at..].trim_start().strip_prefix('[')?;
+    let end = rest.find(']')?;
+    Some(numbers(&rest[..end]))
+}
+
+/// The fixtures' reference JSON (full finite-element model) against `info`: total mass
+/// and the reduced eigenfrequencies, and the /NODE deck against the file's node list.
+/// Runs on fixtures/ when the fixtures are present (or on FXBODY_FIXTURES_DIR).
+#[test]
+fn info_agrees_with_the_fixture_references() {
+    let dir = std::env::var("FXBODY_FIXTURES_DIR")
+        .map(std::path::PathBuf::from)
+        .unwrap_or_else(|_| Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures"));
+    let mut checked = 0;
+    for name in ["cantilever", "cantilever_damped", "freefree", "truss"] {
+        let Ok(reference) = std::fs::read_to_string(dir.join(format!("{name}.ref.json"))) else {
+            continue;
+        };
+        let fxb = dir.join(format!("{name}.fxb"));
+        let out = run(&["info", "--json", fxb.to_str().unwrap()]);
+        assert!(
+            out.status.success(),
+            "{name}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let f = fields(&String::from_utf8(out.stdout).unwrap());
+        let want = json_array(&reference, "reduced").expect("reduced frequencies");
+        let got = numbers(get(&f, "frequencies_hz"));
+        assert_eq!(got.len(), want.len(), "{name}");
+        for (g, w) in got.iter().zip(&want) {
+            assert!(
+                (g - w).abs() <= 1e-7 * w.abs().max(1.0),
+                "{name}: {g} vs {w}"
+            );
+        }
+        match get(&f, "mass") {
+            "null" => assert_eq!(get(&f, "iblo"), "1", "{name}"),
+            m => {
+                let m: f64 = m.parse().unwrap();
+                let w = json_number(&reference, "total_mass").unwrap();
+                assert!((m - w).abs() <= 1e-8 * w, "{name}: mass {m} vs {w}");
+            }
+        }
+        let deck =
+            fxbody::fxb::coords::read_coords(&dir.join(format!("{name}.nodes.rad"))).unwrap();
+        let ids: Vec<String> = deck.iter().map(|(id, _)| id.to_string()).collect();
+        assert_eq!(
+            format!("[{}]", ids.join(", ")),
+            get(&f, "node_ids"),
+            "{name}"
+        );
+        checked += 1;
+    }
+    println!("fixtures checked: {checked}");
+}
