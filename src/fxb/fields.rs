@@ -22,6 +22,10 @@ pub trait FieldValue: Copy + PartialEq + Display {
     const WHAT: &'static str;
     /// Parse the text of one field or token (blanks already removed), `None` if invalid.
     fn parse(text: &[u8]) -> Option<Self>;
+    /// Short text for messages.
+    fn show(&self) -> String {
+        self.to_string()
+    }
 }
 
 impl FieldValue for i64 {
@@ -39,6 +43,14 @@ impl FieldValue for f64 {
     const WHAT: &'static str = "a real number (16-column fields)";
     fn parse(text: &[u8]) -> Option<Self> {
         parse_real(text)
+    }
+    fn show(&self) -> String {
+        let a = self.abs();
+        if a != 0.0 && !(1e-4..1e15).contains(&a) {
+            format!("{self:e}")
+        } else {
+            self.to_string()
+        }
     }
 }
 
@@ -188,8 +200,8 @@ pub fn read_line<T: FieldValue>(line: &[u8]) -> Result<Vec<T>, LineIssue> {
     }
 }
 
-fn list<T: Display>(v: &[T]) -> String {
-    let items: Vec<String> = v.iter().map(ToString::to_string).collect();
+fn list<T: FieldValue>(v: &[T]) -> String {
+    let items: Vec<String> = v.iter().map(|x| x.show()).collect();
     format!("[{}]", items.join(", "))
 }
 
@@ -424,6 +436,20 @@ mod tests {
         // Fixed: [1, 0, 2]; blank-separated: [1, 2]: the line is ambiguous.
         let line = format!("{:>16}{:16}{:>16}", "1.0", "", "2.0");
         assert!(matches!(reals(&line), Err(LineIssue::Ambiguous { .. })));
+    }
+
+    #[test]
+    fn ambiguity_messages_keep_numbers_short() {
+        let line = format!("{:>16}{:>16}", "1.0E-300", "");
+        // Fixed [1e-300]; blank-separated [1e-300]: no ambiguity, one value.
+        assert_eq!(reals(&line).unwrap(), vec![1e-300]);
+        match reals("1.0E-30 1") {
+            Err(LineIssue::Ambiguous { fixed, free, .. }) => {
+                assert_eq!(fixed, "[1e-301]");
+                assert_eq!(free, "[1e-30, 1]");
+            }
+            other => panic!("{other:?}"),
+        }
     }
 
     #[test]
