@@ -453,6 +453,33 @@ mod tests {
     }
 
     #[test]
+    fn reference_guide_example_lines() {
+        let ints = |s: &str| read_line::<i64>(s.as_bytes()).unwrap();
+        assert_eq!(
+            ints("     45       15      18      1       0      1       0"),
+            vec![45, 15, 18, 1, 0, 1, 0]
+        );
+        assert_eq!(
+            ints("     31      32      33      34      35      36      37      38"),
+            vec![31, 32, 33, 34, 35, 36, 37, 38]
+        );
+        // Block 8 of the guide: irregular spacing, read blank-separated.
+        let v = reals(
+            "5.596016869E+03   8.234274572E+03  2.320889319E+04  1.215104250E+03  1.729160225E+02",
+        );
+        assert_eq!(
+            v.unwrap(),
+            vec![
+                5.596016869e3,
+                8.234274572e3,
+                2.320889319e4,
+                1.215104250e3,
+                1.729160225e2
+            ]
+        );
+    }
+
+    #[test]
     fn non_utf8_bytes_are_unparsable() {
         let r = read_line::<f64>(b"1.0\xff\xfe 2.0");
         assert!(matches!(r, Err(LineIssue::Unparsable(_))), "{r:?}");
