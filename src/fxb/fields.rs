@@ -6,6 +6,11 @@
 //! separate values by blanks or tabs instead. [`read_line`] reads a line both ways and
 //! accepts it only when the readings agree or exactly one of them is possible, so that a
 //! file is never read differently from what its author meant without saying so.
+//!
+//! Details: a tab counts as one blank column in the fixed reading (so integers separated
+//! by single tabs or blanks, `21<tab>22`, are ambiguous: Radioss would read 2122); the
+//! blank-separated reading also splits numbers glued after an exponent with a letter
+//! (`0.0E+00-1.25E+01`), which no Fortran number can continue; values must be finite.
 
 use std::fmt::Display;
 
@@ -159,8 +164,8 @@ pub enum LineIssue {
         fixed: String,
         /// The blank-separated values.
         free: String,
-        /// Non-blank text past column 100 (ignored by the fixed reading).
-        past_100: bool,
+        /// Why the readings may differ (text past column 100, tabs), or empty.
+        note: String,
     },
 }
 
@@ -176,8 +181,13 @@ pub fn read_line<T: FieldValue>(line: &[u8]) -> Result<Vec<T>, LineIssue> {
             if a == b && count == b.len() {
                 Ok(a)
             } else {
-                let past_100 =
-                    line.len() > LINE_COLUMNS && line[LINE_COLUMNS..].iter().any(|&c| !is_blank(c));
+                let mut note = String::new();
+                if line.len() > LINE_COLUMNS && line[LINE_COLUMNS..].iter().any(|&c| !is_blank(c)) {
+                    note.push_str("; text past column 100 is ignored by the fixed reading");
+                }
+                if line.contains(&b'\t') {
+                    note.push_str("; a tab counts as one column in the fixed reading");
+                }
                 let mut free = list(&b);
                 if count > b.len() {
                     free = format!("{} values {}...", count, &free[..free.len() - 1]);
@@ -185,7 +195,7 @@ pub fn read_line<T: FieldValue>(line: &[u8]) -> Result<Vec<T>, LineIssue> {
                 Err(LineIssue::Ambiguous {
                     fixed: list(&a),
                     free,
-                    past_100,
+                    note,
                 })
             }
         }
@@ -406,6 +416,13 @@ mod tests {
 
     #[test]
     fn integers_that_both_readings_see_differently_are_ambiguous() {
+        match read_line::<i64>(b"21\t22") {
+            Err(LineIssue::Ambiguous { fixed, note, .. }) => {
+                assert_eq!(fixed, "[2122]");
+                assert!(note.contains("tab"));
+            }
+            other => panic!("{other:?}"),
+        }
         match read_line::<i64>(b"3 0 2 0 0 1 0") {
             Err(LineIssue::Ambiguous { fixed, free, .. }) => {
                 assert_eq!(fixed, "[3020, 10]");
@@ -426,7 +443,7 @@ mod tests {
         line.push_str(&" ".repeat(20));
         line.push_str("7.0");
         match reals(&line) {
-            Err(LineIssue::Ambiguous { past_100, .. }) => assert!(past_100),
+            Err(LineIssue::Ambiguous { note, .. }) => assert!(note.contains("column 100")),
             other => panic!("{other:?}"),
         }
     }
