@@ -93,10 +93,10 @@ pub fn parse_int(text: &[u8]) -> Option<i64> {
 /// Non-finite results (overflow, `NaN`, `Inf`) are rejected: the file must hold numbers.
 pub fn parse_real(text: &[u8]) -> Option<f64> {
     let mut i = 0;
-    let mut norm = String::with_capacity(text.len() + 4);
+    let mut norm = Norm::default();
     if let Some(&s @ (b'+' | b'-')) = text.first() {
         if s == b'-' {
-            norm.push('-');
+            norm.push(b'-');
         }
         i = 1;
     }
@@ -118,7 +118,7 @@ pub fn parse_real(text: &[u8]) -> Option<f64> {
         return None;
     }
     push_digits(&mut norm, int_digits);
-    norm.push('.');
+    norm.push(b'.');
     push_digits(&mut norm, frac_digits);
     if i < text.len() {
         match text[i] {
@@ -126,10 +126,10 @@ pub fn parse_real(text: &[u8]) -> Option<f64> {
             b'+' | b'-' => {}
             _ => return None,
         }
-        norm.push('e');
+        norm.push(b'e');
         if let Some(&s @ (b'+' | b'-')) = text.get(i) {
             if s == b'-' {
-                norm.push('-');
+                norm.push(b'-');
             }
             i += 1;
         }
@@ -142,15 +142,53 @@ pub fn parse_real(text: &[u8]) -> Option<f64> {
         }
         push_digits(&mut norm, &text[e0..i]);
     }
-    let v: f64 = norm.parse().ok()?;
+    let v: f64 = std::str::from_utf8(norm.as_bytes()).ok()?.parse().ok()?;
     v.is_finite().then_some(v)
 }
 
-fn push_digits(out: &mut String, digits: &[u8]) {
+fn push_digits(out: &mut Norm, digits: &[u8]) {
     if digits.is_empty() {
-        out.push('0');
+        out.push(b'0');
     }
-    out.extend(digits.iter().map(|&d| char::from(d)));
+    for &d in digits {
+        out.push(d);
+    }
+}
+
+/// The normalised text of a number, on the stack unless it is unusually long (reading
+/// millions of values should not allocate for each).
+struct Norm {
+    stack: [u8; 64],
+    len: usize,
+    heap: Vec<u8>,
+}
+
+impl Default for Norm {
+    fn default() -> Self {
+        Norm {
+            stack: [0; 64],
+            len: 0,
+            heap: Vec::new(),
+        }
+    }
+}
+
+impl Norm {
+    fn push(&mut self, b: u8) {
+        if let Some(slot) = self.stack.get_mut(self.len) {
+            *slot = b;
+        } else {
+            if self.heap.is_empty() {
+                self.heap.extend_from_slice(&self.stack);
+            }
+            self.heap.push(b);
+        }
+        self.len += 1;
+    }
+
+    fn as_bytes(&self) -> &[u8] {
+        self.stack.get(..self.len).unwrap_or(&self.heap)
+    }
 }
 
 /// Why a line could not be read.
@@ -353,6 +391,8 @@ mod tests {
         for (text, want) in cases {
             assert_eq!(parse_real(text.as_bytes()), Some(want), "{text}");
         }
+        let long = format!("{}.5E-{}", "1".repeat(80), "0".repeat(70) + "79");
+        assert_eq!(parse_real(long.as_bytes()), Some(1.1111111111111111));
         for bad in [
             "", ".", "E5", "1.0E", "1.0E+", "1..0", "NaN", "Inf", "1e999", "1.0x", "--1",
         ] {
