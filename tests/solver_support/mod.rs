@@ -106,8 +106,8 @@ pub fn random_scene(
     let phi: Vec<f64> = (0..nl * nnodes * 6).map(|_| g.next()).collect();
     // A rotation from a unit quaternion.
     let (w, x, y, z) = {
-        let q = [0.9, 0.2, -0.3, 0.25];
-        let n = (q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+        let q: [f64; 4] = [0.9, 0.2, -0.3, 0.25];
+        let n = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
         let n = n.sqrt();
         (q[0] / n, q[1] / n, q[2] / n, q[3] / n)
     };
