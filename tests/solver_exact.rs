@@ -5,7 +5,7 @@
 mod solver_support;
 
 use fxbody::solver::{Method, Options, Solver, build};
-use solver_support::{one_mode_scene, random_scene, sdof, sdof_sine};
+use solver_support::{one_mode_scene, orders, random_scene, sdof};
 
 fn tip_x(s: &dyn Solver) -> (f64, f64) {
     let mut p = [0.0; 3];
@@ -97,40 +97,6 @@ fn exact_near_critical_damping_keeps_precision() {
         }
         assert!(err < 1e-8, "zeta {z}: {err:e}");
     }
-}
-
-/// Largest displacement error over [0, 2] s for a sine load sampled every h, held or
-/// with its derivative as rate.
-fn sine_error(method: Method, n: usize, linear: bool, opts: &Options) -> f64 {
-    let (m, k, alpha) = (1.0, (2.0 * std::f64::consts::PI * 2.0f64).powi(2), 0.5);
-    let (f, big_w) = (3.0, 2.0 * std::f64::consts::PI * 0.7);
-    let scene = one_mode_scene(m, k, Some((alpha, 0.0)));
-    let mut s = build(&scene, method, opts).unwrap();
-    let h = 2.0 / n as f64;
-    let mut err = 0.0f64;
-    for i in 0..n {
-        let t = i as f64 * h;
-        s.set_loads(&[f * (big_w * t).sin(), 0.0, 0.0, 0.0, 0.0, 0.0])
-            .unwrap();
-        if linear {
-            s.set_load_rates(&[f * big_w * (big_w * t).cos(), 0.0, 0.0, 0.0, 0.0, 0.0])
-                .unwrap();
-        }
-        s.step(h).unwrap();
-        let (q, _) = tip_x(s.as_ref());
-        let (qr, _) = sdof_sine(m, alpha * m, k, f, big_w, t + h);
-        err = err.max((q - qr).abs());
-    }
-    err
-}
-
-pub fn orders(method: Method, linear: bool, n0: usize, opts: &Options) -> (f64, f64) {
-    let e: Vec<f64> = [n0, 2 * n0, 4 * n0]
-        .iter()
-        .map(|&n| sine_error(method, n, linear, opts))
-        .collect();
-    println!("{method:?} linear={linear}: errors {e:?}");
-    ((e[0] / e[1]).log2(), (e[1] / e[2]).log2())
 }
 
 #[test]

@@ -4,11 +4,16 @@
 
 use crate::scene::Scene;
 
+mod dense;
 pub mod exact;
+pub mod explicit;
 mod expm;
+pub mod implicit;
 pub mod nodes;
 
 pub use exact::Exact;
+pub use explicit::Explicit;
+pub use implicit::Implicit;
 
 /// Integration method. The numbers are the FMI enumeration values.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -140,7 +145,6 @@ pub fn build(
     method: Method,
     opts: &Options,
 ) -> Result<Box<dyn Solver>, SolverError> {
-    let _ = opts;
     if !scene.body.iblo {
         return Err(SolverError::Unsupported {
             method,
@@ -149,9 +153,7 @@ pub fn build(
     }
     match method {
         Method::Exact => Ok(Box::new(Exact::new(scene)?)),
-        Method::Implicit | Method::Explicit => Err(SolverError::Unsupported {
-            method,
-            why: "not implemented yet".into(),
-        }),
+        Method::Implicit => Ok(Box::new(Implicit::new(scene, opts.rho_inf)?)),
+        Method::Explicit => Ok(Box::new(Explicit::new(scene, opts)?)),
     }
 }
