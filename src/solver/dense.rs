@@ -13,7 +13,7 @@ pub fn cholesky_in_place(a: &mut DMatrix<f64>) -> Result<(), usize> {
         for k in 0..j {
             d -= a[(j, k)] * a[(j, k)];
         }
-        if !(d > 0.0) || !d.is_finite() {
+        if d <= 0.0 || !d.is_finite() {
             return Err(j);
         }
         let d = d.sqrt();
