@@ -7,6 +7,14 @@
 //! `v^(n+1/2) = v^(n-1/2) + (dt1 + dt2)/2 a`, `q^(n+1) = q^n + dt2 v^(n+1/2)`. The first
 //! cycle has dt1 = 0, so `v^(1/2) = v^0 + dt2/2 a^0`.
 //!
+//! Loads between communication points are the caller's model (held, or linear with
+//! rates). A held load that jumps at a communication point t_k is integrated with its
+//! exact impulse: the velocity update that straddles t_k covers `dt1/2` under the old
+//! load (its value reached at t_k) and `dt2/2` under the new one, so the effective force
+//! is `(F_old(t_k) dt1 + F_new(t_k) dt2) / (dt1 + dt2)`. For a continuous load this is
+//! the usual `F(t_k)`; for a rectangular pulse it keeps the impulse right (otherwise half
+//! an internal step of load is lost at each jump).
+//!
 //! A communication step h is cut into `n = ceil(h / (dt_factor dt_fx))` equal internal
 //! steps that land exactly on its end, dt_fx being the stable step of the largest
 //! eigenfrequency of (K_L, m_L) with the stiffness damping (`body::stable_step`).
@@ -21,7 +29,8 @@
 //! costs no extra matrix product.
 //!
 //! State layout (`State::data`): time, the load part (`t_set`, 6m loads, 6m rates),
-//! dt1, then q and v^(n-1/2) (nL each).
+//! dt1, then q, v^(n-1/2) and the generalised load reached at the end of the last step
+//! under the load model of that step (nL each).
 
 use nalgebra::{DMatrix, DVector};
 
@@ -54,6 +63,8 @@ pub struct Explicit {
     w: DVector<f64>,
     acc: DVector<f64>,
     vout: DVector<f64>,
+    /// Generalised load at the end of the last step under that step's load model.
+    fend: DVector<f64>,
 }
 
 impl Explicit {
@@ -86,6 +97,7 @@ impl Explicit {
             w: DVector::zeros(nl),
             acc: DVector::zeros(nl),
             vout: DVector::zeros(nl),
+            fend: DVector::zeros(nl),
         })
     }
 
@@ -94,12 +106,25 @@ impl Explicit {
         self.dt_max
     }
 
-    /// `acc = S / (m (1 + a_R dt/2))` at time t from the kept `K (q + beta vh)`.
-    fn acceleration(&mut self, t: f64, dt: f64) {
+    /// `acc = S / (m (1 + a_R dt/2))` at time t from the kept `K (q + beta vh)`. With
+    /// `straddle`, the force is the impulse-weighted mean of the previous step's end
+    /// load (over dt1/2) and the current load (over dt/2).
+    fn acceleration(&mut self, t: f64, dt: f64, straddle: bool) {
         let f = 1.0 + 0.5 * self.ra * dt;
         let dts = t - self.io.t_set;
+        let (wold, wnew) = if straddle && self.dt1 > 0.0 {
+            let sum = self.dt1 + dt;
+            (self.dt1 / sum, dt / sum)
+        } else {
+            (0.0, 1.0)
+        };
         for i in 0..self.q.len() {
-            let force = self.io.f[i] + self.io.fd[i] * dts;
+            let now = self.io.f[i] + self.io.fd[i] * dts;
+            let force = if wold > 0.0 {
+                wold * self.fend[i] + wnew * now
+            } else {
+                now
+            };
             let s = force - self.kq[i] - self.ra * self.m[i] * self.vh[i];
             self.acc[i] = s / (self.m[i] * f);
         }
@@ -113,13 +138,13 @@ impl Explicit {
 
     /// Acceleration and full-step velocity estimate at the current time.
     fn update_outputs(&mut self) {
-        self.acceleration(self.time, self.dt1);
+        self.acceleration(self.time, self.dt1, false);
         self.vout.copy_from(&self.vh);
         self.vout.axpy(0.5 * self.dt1, &self.acc, 1.0);
     }
 
     fn state_len(&self) -> usize {
-        2 + self.io.saved_len() + 2 * self.q.len()
+        2 + self.io.saved_len() + 3 * self.q.len()
     }
 }
 
@@ -161,7 +186,7 @@ impl Solver for Explicit {
         let t0 = self.time;
         for i in 0..n {
             let t = t0 + i as f64 * dt2;
-            self.acceleration(t, dt2);
+            self.acceleration(t, dt2, i == 0);
             let dt12 = 0.5 * (self.dt1 + dt2);
             self.vh.axpy(dt12, &self.acc, 1.0);
             self.q.axpy(dt2, &self.vh, 1.0);
@@ -169,6 +194,7 @@ impl Solver for Explicit {
             self.refresh_products();
         }
         self.time = t0 + h;
+        self.io.force_into(self.time, &mut self.fend);
         self.update_outputs();
         Ok(())
     }
@@ -218,6 +244,7 @@ impl Solver for Explicit {
         data.push(self.dt1);
         data.extend(self.q.iter());
         data.extend(self.vh.iter());
+        data.extend(self.fend.iter());
         State {
             method: Method::Explicit,
             data,
@@ -238,6 +265,7 @@ impl Solver for Explicit {
         let k = k + 1;
         self.q.copy_from_slice(&d[k..k + nl]);
         self.vh.copy_from_slice(&d[k + nl..k + 2 * nl]);
+        self.fend.copy_from_slice(&d[k + 2 * nl..k + 3 * nl]);
         self.refresh_products();
         self.update_outputs();
         Ok(())
