@@ -45,12 +45,27 @@ pub fn cholesky_solve(l: &DMatrix<f64>, b: &mut DVector<f64>) {
     // Backward: L^T x = y; row i of L^T is column i of L.
     for i in (0..n).rev() {
         let col = &s[i * n + i + 1..(i + 1) * n];
-        let mut t = b[i];
-        for (&lki, &xk) in col.iter().zip(&b.as_slice()[i + 1..]) {
-            t -= lki * xk;
-        }
+        let t = b[i] - dot(col, &b.as_slice()[i + 1..]);
         b[i] = t / s[i * n + i];
     }
+}
+
+/// Dot product with four independent partial sums, so that the additions pipeline
+/// instead of waiting on one another.
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    let mut acc = [0.0; 4];
+    let (ca, cb) = (a.chunks_exact(4), b.chunks_exact(4));
+    let (ra, rb) = (ca.remainder(), cb.remainder());
+    for (x, y) in ca.zip(cb) {
+        for k in 0..4 {
+            acc[k] += x[k] * y[k];
+        }
+    }
+    let mut tail = 0.0;
+    for (x, y) in ra.iter().zip(rb) {
+        tail += x * y;
+    }
+    (acc[0] + acc[1]) + (acc[2] + acc[3]) + tail
 }
 
 /// `x^T k x` without temporaries.
