@@ -331,3 +331,38 @@ fn state_restore_reproduces_bit_for_bit() {
         assert!(b.set_loads(&[0.0; 5]).is_err());
     }
 }
+
+#[test]
+fn a_body_without_modes_stays_put_and_bad_scenes_are_refused() {
+    use fxbody::scene::Scene;
+    use solver_support::{IDENTITY, blocked_body};
+    use std::sync::Arc;
+    // No local modes: every method builds and the node stays at x0 exactly.
+    let body = Arc::new(blocked_body(&[], &[], &[], 1, IDENTITY, None));
+    let scene = Scene::new(body.clone(), vec![0], vec![[1.0, 2.0, 3.0]]);
+    for method in [Method::Exact, Method::Implicit, Method::Explicit] {
+        let mut s = build(&scene, method, &Options::default()).unwrap();
+        s.set_loads(&[1.0; 6]).unwrap();
+        s.step(0.1).unwrap();
+        let mut p = [0.0; 3];
+        s.positions(&mut p);
+        assert_eq!(p, [1.0, 2.0, 3.0], "{method:?}");
+        assert_eq!(s.strain_energy() + s.kinetic_energy(), 0.0);
+        // A node index outside the body and a non-finite load are errors, not panics.
+        let bad = Scene::new(body.clone(), vec![3], vec![[0.0; 3]]);
+        assert!(build(&bad, method, &Options::default()).is_err());
+        assert!(s.set_loads(&[f64::NAN; 6]).is_err());
+    }
+    // Out-of-range options are refused.
+    let one = one_mode_scene(1.0, 1.0, None);
+    let o = Options {
+        rho_inf: 1.5,
+        ..Options::default()
+    };
+    assert!(build(&one, Method::Implicit, &o).is_err());
+    let o = Options {
+        dt_factor: 0.0,
+        ..Options::default()
+    };
+    assert!(build(&one, Method::Explicit, &o).is_err());
+}

@@ -41,10 +41,17 @@ impl Exact {
         let nl = body.nl();
         let inv_sqrt = body.m_l.map(|m| 1.0 / m.sqrt());
         let scaled = DMatrix::from_fn(nl, nl, |i, j| body.k_l[(i, j)] * inv_sqrt[i] * inv_sqrt[j]);
-        let eig = SymmetricEigen::new(scaled);
-        let basis = DMatrix::from_fn(nl, nl, |i, j| inv_sqrt[i] * eig.eigenvectors[(i, j)]);
+        // nalgebra refuses an empty matrix: a body without local modes has nothing to
+        // diagonalise.
+        let (values, vectors) = if nl == 0 {
+            (DVector::zeros(0), DMatrix::zeros(0, 0))
+        } else {
+            let eig = SymmetricEigen::new(scaled);
+            (eig.eigenvalues, eig.eigenvectors)
+        };
+        let basis = DMatrix::from_fn(nl, nl, |i, j| inv_sqrt[i] * vectors[(i, j)]);
         let (a, b) = body.damping.map_or((0.0, 0.0), |r| (r.alpha, r.beta));
-        let omega: Vec<f64> = eig.eigenvalues.iter().map(|&l| l.max(0.0).sqrt()).collect();
+        let omega: Vec<f64> = values.iter().map(|&l| l.max(0.0).sqrt()).collect();
         let damp = omega.iter().map(|&w| a + b * w * w).collect();
         let io = Exposed::new(scene, &basis)?;
         Ok(Exact {

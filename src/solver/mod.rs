@@ -74,6 +74,10 @@ pub enum SolverError {
     /// A saved state that does not belong to this solver.
     #[error("state does not fit this solver: {0}")]
     BadState(String),
+    /// An argument or scene value that is not usable (non-finite load, node index
+    /// outside the body).
+    #[error("bad input: {0}")]
+    BadInput(String),
     /// The body cannot be simulated (for example a singular rigid mass).
     #[error("body cannot be simulated: {0}")]
     Singular(String),
