@@ -1,6 +1,17 @@
 //! Time integration of a flexible body, independent of FMI. One trait, one file per
 //! method. A solver is built from a [`Scene`] and only computes loads and outputs for the
 //! scene's exposed nodes.
+//!
+//! Blocked bodies (Iblo=1) are linear,
+//! `diag(m_L) a + (beta K_L + alpha diag(m_L)) v + K_L q = F_L` in the fixed frame P0:
+//! - [`exact`]: modal stepping, exact for held or linearly varying loads, any step;
+//! - [`implicit`]: generalised-alpha, second order, unconditionally stable;
+//! - [`explicit`]: the Radioss central-difference scheme, sub-cycled below dt_fx.
+//!
+//! [`nodes`] holds what they share: the exposed-node rows of the modes in the global
+//! frame, the caller's load model (value, rate, time) and the node outputs, all
+//! preallocated so that `step` and the outputs never allocate. `dense` has the small
+//! in-place kernels (Cholesky) and `expm` the per-mode transition of the exact method.
 
 use crate::scene::Scene;
 
