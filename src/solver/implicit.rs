@@ -186,20 +186,33 @@ impl Solver for Implicit {
         // w = q_(n+1-af) without the a_(n+1) part, plus beta_R times the same for v.
         let (cq_v, cq_a) = (c * h, c * h * h * (0.5 - p.beta));
         let cv_a = c * h * (1.0 - p.gamma);
-        for i in 0..self.q.len() {
-            let u = self.v[i] + cv_a * self.a[i];
-            let wq = self.q[i] + cq_v * self.v[i] + cq_a * self.a[i];
-            self.w[i] = wq + self.rb * u;
-            self.rhs[i] -= self.m[i] * (p.am * self.a[i] + self.ra * u);
+        let (rb, ra, am) = (self.rb, self.ra, p.am);
+        for ((((w, r), &q), &v), (&a, &m)) in self
+            .w
+            .iter_mut()
+            .zip(self.rhs.iter_mut())
+            .zip(self.q.iter())
+            .zip(self.v.iter())
+            .zip(self.a.iter().zip(self.m.iter()))
+        {
+            let u = v + cv_a * a;
+            *w = q + cq_v * v + cq_a * a + rb * u;
+            *r -= m * (am * a + ra * u);
         }
         self.rhs.gemv(-1.0, &self.k, &self.w, 1.0);
         cholesky_solve(&self.cache[slot], &mut self.rhs);
         let (h2, bb, g) = (h * h, p.beta, p.gamma);
-        for i in 0..self.q.len() {
-            let (a0, a1) = (self.a[i], self.rhs[i]);
-            self.q[i] += h * self.v[i] + h2 * ((0.5 - bb) * a0 + bb * a1);
-            self.v[i] += h * ((1.0 - g) * a0 + g * a1);
-            self.a[i] = a1;
+        for (((q, v), a), &a1) in self
+            .q
+            .iter_mut()
+            .zip(self.v.iter_mut())
+            .zip(self.a.iter_mut())
+            .zip(self.rhs.iter())
+        {
+            let a0 = *a;
+            *q += h * *v + h2 * ((0.5 - bb) * a0 + bb * a1);
+            *v += h * ((1.0 - g) * a0 + g * a1);
+            *a = a1;
         }
         self.time += h;
         self.started = true;
