@@ -4,6 +4,8 @@
 
 use crate::scene::Scene;
 
+pub mod free;
+
 /// Integration method. The numbers are the FMI enumeration values.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Method {
@@ -126,8 +128,25 @@ pub trait Solver: Send {
 }
 
 /// Build a solver for a scene with the chosen method.
-pub fn build(scene: &Scene, method: Method, opts: &Options) -> Result<Box<dyn Solver>, SolverError> {
-    let _ = (scene, opts);
+pub fn build(
+    scene: &Scene,
+    method: Method,
+    opts: &Options,
+) -> Result<Box<dyn Solver>, SolverError> {
+    if !scene.body.iblo {
+        return match method {
+            Method::Explicit => Ok(Box::new(free::Explicit::new(scene, opts)?)),
+            Method::Exact => Err(SolverError::Unsupported {
+                method,
+                why: "exact modal stepping needs a blocked body (Iblo=1)".into(),
+            }),
+            _ => Err(SolverError::Unsupported {
+                method,
+                why: "not implemented yet for free bodies".into(),
+            }),
+        };
+    }
+    let _ = opts;
     Err(SolverError::Unsupported {
         method,
         why: "not implemented yet".into(),
