@@ -5,6 +5,10 @@ use nalgebra::{DMatrix, DVector, Matrix3};
 
 use crate::fxb::FxbFile;
 
+mod checks;
+
+pub use checks::{BodyError, MAX_LOCAL_MODES};
+
 /// Rayleigh damping `C_L = alpha diag(m_L) + beta K_L` (block 4); zero when absent.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Rayleigh {
@@ -76,6 +80,48 @@ impl Body {
     /// Position of a node ID in the node list.
     pub fn node_index(&self, id: i64) -> Option<usize> {
         self.node_ids.iter().position(|&n| n == id)
+    }
+
+    /// Check a raw file and assemble it into a body: counts consistent, values finite,
+    /// P0 a rotation (1e-6), m_L > 0, Freq > 0 when there are local modes, K_L positive
+    /// semi-definite, and for free bodies M_R positive semi-definite and definite on the
+    /// rigid motions (a body whose nodes are all on one line is refused). M_R itself may
+    /// be singular: the affine rigid modes of a flat body have a null space that the
+    /// frame constraints remove. A stored Freq more than 1% from the largest computed
+    /// eigenfrequency is a warning in [`Body::warnings`]. `source` names the file in
+    /// messages.
+    pub fn from_fxb(file: &FxbFile, source: &str) -> Result<Body, BodyError> {
+        checks::check_raw(file, source)?;
+        let mut body = Body::assemble(file);
+        body.warnings = checks::check_body(&body, source)?;
+        Ok(body)
+    }
+
+    /// Whether node `node_index` (position in `node_ids`) has rotational DOFs: Irot = 1
+    /// and some rigid or local mode has a nonzero rotational component there.
+    pub fn node_has_rotation(&self, node_index: usize) -> bool {
+        if !self.irot || node_index >= self.nnodes() {
+            return false;
+        }
+        let rows = 6 * node_index + 3..6 * node_index + 6;
+        [&self.phi_r, &self.phi_l]
+            .iter()
+            .any(|m| rows.clone().any(|r| m.row(r).iter().any(|&v| v != 0.0)))
+    }
+
+    /// Total mass of a free body, `s^T M_R s` for a unit uniform translation along x
+    /// (`s = e1 + e4 + e7 + e10`); `None` for a blocked body, whose file has no M_R.
+    pub fn total_mass(&self) -> Option<f64> {
+        if self.nr() < 12 {
+            return None;
+        }
+        let s = [0, 3, 6, 9];
+        Some(
+            s.iter()
+                .flat_map(|&i| s.iter().map(move |&j| (i, j)))
+                .map(|ij| self.m_r[ij])
+                .sum(),
+        )
     }
 
     /// Assemble the matrices from the raw file, following the storage orders of

@@ -1,6 +1,31 @@
-//! The `fxbody` command: a thin layer over the library.
+//! The `fxbody` command: a thin dispatcher over the library, one subcommand per file in
+//! `src/cli/`.
+
+mod cli;
+
+use clap::{Parser, Subcommand};
+
+/// Radioss flexible bodies (/FXBODY, .fxb) for FMI co-simulation.
+#[derive(Debug, Parser)]
+#[command(name = "fxbody", version, about)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Show what a .fxb file holds: counts, flags, nodes, frequencies, stable step, mass.
+    Info(cli::info::InfoArgs),
+}
 
 fn main() {
-    eprintln!("fxbody: no commands yet");
-    std::process::exit(2);
+    let cli = Cli::parse();
+    let result = match &cli.command {
+        Command::Info(args) => cli::info::run(args),
+    };
+    if let Err(message) = result {
+        eprintln!("fxbody: {message}");
+        std::process::exit(2);
+    }
 }

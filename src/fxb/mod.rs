@@ -1,6 +1,62 @@
 //! The `.fxb` file format only: reading (fixed-column and free-format), writing, and
 //! errors that name the file, line and block. No physics here: [`FxbFile`] holds the
 //! numbers exactly in file order; [`crate::body::Body`] turns them into matrices.
+//!
+//! Reading rules (FORMULATION.md section 1): comments (`#` or `$` in column 1) and blank
+//! lines may appear anywhere; each line is read both in Radioss fixed columns and as
+//! blank- or tab-separated values, and a line the two readings see differently is an
+//! error ([`fields`]); each block and sub-block starts on a new line, values run five to a
+//! line and only a block's last line may be short; a mode takes two lines per node.
+//! The Ifile flag is read and kept but has no effect on anything this crate computes (it
+//! only tells Radioss whether to keep mode data in memory or on disk).
+
+use std::path::Path;
+
+pub mod coords;
+mod error;
+pub mod fields;
+mod reader;
+mod writer;
+
+pub use error::{At, Block, FxbError};
+pub use writer::{format_real, write};
+
+use crate::body::{Body, BodyError};
+
+/// Read and parse a `.fxb` file; the file name in errors is the path as given.
+pub fn read_path(path: &Path) -> Result<FxbFile, FxbError> {
+    let name = path.display().to_string();
+    let bytes = std::fs::read(path).map_err(|source| FxbError::Io {
+        file: name.clone(),
+        source,
+    })?;
+    parse(&bytes, &name)
+}
+
+/// Parse the text of a `.fxb` file (a `&str` or raw bytes). `file_name` is only used in
+/// error messages. Bytes that are not UTF-8 are allowed in comments and are an
+/// unparsable-field error anywhere else.
+pub fn parse(text: impl AsRef<[u8]>, file_name: &str) -> Result<FxbFile, FxbError> {
+    reader::parse_bytes(text.as_ref(), file_name)
+}
+
+/// Why [`load_body`] failed: the file could not be read, or its numbers do not make a
+/// valid body.
+#[derive(Debug, thiserror::Error)]
+pub enum LoadError {
+    /// Reading or parsing failed.
+    #[error(transparent)]
+    File(#[from] FxbError),
+    /// The numbers failed a physical check.
+    #[error(transparent)]
+    Body(#[from] BodyError),
+}
+
+/// Read a file and validate it into a [`Body`] (warnings are in `Body::warnings`).
+pub fn load_body(path: &Path) -> Result<Body, LoadError> {
+    let file = read_path(path)?;
+    Ok(Body::from_fxb(&file, &path.display().to_string())?)
+}
 
 /// The raw contents of a flexible-body file, block by block, in file order.
 ///

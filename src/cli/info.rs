@@ -1,0 +1,178 @@
+//! `fxbody info FILE [--json]`: what a flexible-body file holds and what it implies for
+//! a simulation (frequencies, the explicit scheme's stable step, the mass).
+
+use std::fmt::Write;
+use std::path::PathBuf;
+
+use fxbody::body::{Body, stable_step};
+use fxbody::fxb;
+
+/// Arguments of `info`.
+#[derive(Debug, clap::Args)]
+pub struct InfoArgs {
+    /// The `.fxb` file.
+    pub file: PathBuf,
+    /// Print one JSON object instead of text.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// What `info` reports, computed once for both output forms.
+struct Info {
+    body: Body,
+    nbmod: usize,
+    idamp: bool,
+    freq_max_hz: f64,
+    dt_stab_s: f64,
+    mass: Option<f64>,
+}
+
+/// Run `info`: the report on stdout, or the error message (for exit code 2).
+pub fn run(args: &InfoArgs) -> Result<(), String> {
+    let file = fxb::read_path(&args.file).map_err(|e| e.to_string())?;
+    let body =
+        Body::from_fxb(&file, &args.file.display().to_string()).map_err(|e| e.to_string())?;
+    let beta = body.damping.map_or(0.0, |d| d.beta);
+    let info = Info {
+        nbmod: file.nbmod,
+        idamp: file.idamp,
+        freq_max_hz: body.frequencies_hz.last().copied().unwrap_or(0.0),
+        // The reference scheme's step comes from the stored Freq, as Radioss uses it.
+        dt_stab_s: stable_step(body.freq_file, beta),
+        mass: body.total_mass(),
+        body,
+    };
+    let out = if args.json {
+        json(&info)
+    } else {
+        text(&info, &args.file)
+    };
+    print!("{out}");
+    Ok(())
+}
+
+/// A number that reads back to the same f64; `null` when not finite.
+fn num(v: f64) -> String {
+    if v.is_finite() {
+        format!("{v:?}")
+    } else {
+        "null".into()
+    }
+}
+
+fn json_str(s: &str) -> String {
+    let mut out = String::with_capacity(s.len() + 2);
+    out.push('"');
+    for c in s.chars() {
+        match c {
+            '"' => out.push_str("\\\""),
+            '\\' => out.push_str("\\\\"),
+            c if (c as u32) < 0x20 => {
+                let _ = write!(out, "\\u{:04x}", c as u32);
+            }
+            c => out.push(c),
+        }
+    }
+    out.push('"');
+    out
+}
+
+fn list<T>(items: &[T], f: impl Fn(&T) -> String) -> String {
+    let v: Vec<String> = items.iter().map(f).collect();
+    format!("[{}]", v.join(", "))
+}
+
+fn json(i: &Info) -> String {
+    let b = &i.body;
+    let flag = |x: bool| u8::from(x);
+    let mut o = String::from("{\n");
+    let _ = writeln!(o, "  \"nbmod\": {},", i.nbmod);
+    let _ = writeln!(o, "  \"nbstat\": {},", b.nbstat);
+    let _ = writeln!(o, "  \"nbnod\": {},", b.nnodes());
+    let _ = writeln!(o, "  \"irot\": {},", flag(b.irot));
+    let _ = writeln!(o, "  \"idamp\": {},", flag(i.idamp));
+    let _ = writeln!(o, "  \"iblo\": {},", flag(b.iblo));
+    let _ = writeln!(o, "  \"ifile\": {},", flag(b.ifile));
+    let _ = writeln!(
+        o,
+        "  \"node_ids\": {},",
+        list(&b.node_ids, |v| v.to_string())
+    );
+    let _ = writeln!(o, "  \"freq_file_hz\": {},", num(b.freq_file));
+    let _ = writeln!(o, "  \"freq_max_hz\": {},", num(i.freq_max_hz));
+    let _ = writeln!(
+        o,
+        "  \"frequencies_hz\": {},",
+        list(&b.frequencies_hz, |v| num(*v))
+    );
+    let _ = writeln!(o, "  \"dt_stab_s\": {},", num(i.dt_stab_s));
+    let _ = writeln!(o, "  \"mass\": {},", i.mass.map_or("null".into(), num));
+    let _ = writeln!(o, "  \"warnings\": {}", list(&b.warnings, |w| json_str(w)));
+    o.push_str("}\n");
+    o
+}
+
+fn text(i: &Info, path: &std::path::Path) -> String {
+    let b = &i.body;
+    let flag = |x: bool| u8::from(x);
+    let mut o = String::new();
+    let _ = writeln!(o, "file: {}", path.display());
+    let _ = writeln!(
+        o,
+        "Nbmod {}  Nbstat {}  Nbnod {}  Irot {}  Idamp {}  Iblo {}  Ifile {} (no effect)",
+        i.nbmod,
+        b.nbstat,
+        b.nnodes(),
+        flag(b.irot),
+        flag(i.idamp),
+        flag(b.iblo),
+        flag(b.ifile)
+    );
+    let _ = writeln!(
+        o,
+        "body: {}",
+        if b.iblo {
+            "blocked (no rigid motion)"
+        } else {
+            "free"
+        }
+    );
+    let ids: Vec<String> = b.node_ids.iter().map(ToString::to_string).collect();
+    let _ = writeln!(o, "node IDs: {}", ids.join(" "));
+    let f: Vec<String> = b
+        .frequencies_hz
+        .iter()
+        .map(|v| format!("{v:.6e}"))
+        .collect();
+    let _ = writeln!(o, "eigenfrequencies of (K_L, m_L), Hz: {}", f.join(" "));
+    let _ = writeln!(
+        o,
+        "stored Freq: {:.9e} Hz, largest computed: {:.9e} Hz",
+        b.freq_file, i.freq_max_hz
+    );
+    if let Some(d) = b.damping {
+        let _ = writeln!(
+            o,
+            "Rayleigh damping: alpha {:e} 1/s, beta {:e} s",
+            d.alpha, d.beta
+        );
+    }
+    let _ = writeln!(
+        o,
+        "stable step of the explicit scheme (from stored Freq): {:.6e} s",
+        i.dt_stab_s
+    );
+    match i.mass {
+        Some(m) => {
+            let _ = writeln!(o, "total mass (from M_R): {m:.9e} kg");
+        }
+        None => o.push_str("total mass: not in the file (blocked body)\n"),
+    }
+    if b.warnings.is_empty() {
+        o.push_str("warnings: none\n");
+    }
+    for w in &b.warnings {
+        let _ = writeln!(o, "warning: {w}");
+    }
+    o
+}

@@ -1,0 +1,3 @@
+//! The `fxbody` subcommands, one file each; `main.rs` only dispatches.
+
+pub mod info;

@@ -1,0 +1,434 @@
+//! One line of numbers, read the two ways a `.fxb` file can be written.
+//!
+//! Radioss reads fixed columns (Fortran `I8`, `F16.0`): only the first 100 columns count,
+//! blanks inside a field are ignored, a blank field between others reads as zero, and
+//! numbers may touch (`0.000000000E+00-1.250000000E+01` is two values). Hand-written files
+//! separate values by blanks or tabs instead. [`read_line`] reads a line both ways and
+//! accepts it only when the readings agree or exactly one of them is possible, so that a
+//! file is never read differently from what its author meant without saying so.
+
+use std::fmt::Display;
+
+/// Columns of a line that Radioss reads; the rest is ignored by the fixed reading.
+pub const LINE_COLUMNS: usize = 100;
+
+/// A value kind that lives in fixed-width fields: integers (`I8`) or reals (`F16.0`).
+pub trait FieldValue: Copy + PartialEq + Display {
+    /// Field width in columns.
+    const WIDTH: usize;
+    /// The value of an all-blank field between non-blank ones.
+    const ZERO: Self;
+    /// What a field of this kind holds, for messages.
+    const WHAT: &'static str;
+    /// Parse the text of one field or token (blanks already removed), `None` if invalid.
+    fn parse(text: &[u8]) -> Option<Self>;
+}
+
+impl FieldValue for i64 {
+    const WIDTH: usize = 8;
+    const ZERO: Self = 0;
+    const WHAT: &'static str = "an integer (8-column fields)";
+    fn parse(text: &[u8]) -> Option<Self> {
+        parse_int(text)
+    }
+}
+
+impl FieldValue for f64 {
+    const WIDTH: usize = 16;
+    const ZERO: Self = 0.0;
+    const WHAT: &'static str = "a real number (16-column fields)";
+    fn parse(text: &[u8]) -> Option<Self> {
+        parse_real(text)
+    }
+}
+
+/// Blank characters: inside a fixed field they are ignored, between tokens they separate.
+pub fn is_blank(b: u8) -> bool {
+    matches!(b, b' ' | b'\t' | b'\r' | b'\x0c' | b'\x0b')
+}
+
+/// An integer `[sign] digits`, as Fortran `I` editing reads it (blanks removed first).
+pub fn parse_int(text: &[u8]) -> Option<i64> {
+    let (neg, digits) = match text.first() {
+        Some(b'-') => (true, &text[1..]),
+        Some(b'+') => (false, &text[1..]),
+        _ => (false, text),
+    };
+    if digits.is_empty() || !digits.iter().all(u8::is_ascii_digit) {
+        return None;
+    }
+    let mut v: i64 = 0;
+    for &d in digits {
+        let d = i64::from(d - b'0');
+        v = v.checked_mul(10)?;
+        v = if neg {
+            v.checked_sub(d)?
+        } else {
+            v.checked_add(d)?
+        };
+    }
+    Some(v)
+}
+
+/// A real number as Fortran `F` editing reads it (blanks removed first): an optional
+/// sign, digits with an optional decimal point, and an optional exponent written
+/// `E`/`D` (either case) with optional sign, or just a sign (`1.0-3` is 1.0e-3).
+/// Non-finite results (overflow, `NaN`, `Inf`) are rejected: the file must hold numbers.
+pub fn parse_real(text: &[u8]) -> Option<f64> {
+    let mut i = 0;
+    let mut norm = String::with_capacity(text.len() + 4);
+    if let Some(&s @ (b'+' | b'-')) = text.first() {
+        if s == b'-' {
+            norm.push('-');
+        }
+        i = 1;
+    }
+    let int_start = i;
+    while i < text.len() && text[i].is_ascii_digit() {
+        i += 1;
+    }
+    let int_digits = &text[int_start..i];
+    let mut frac_digits: &[u8] = &[];
+    if i < text.len() && text[i] == b'.' {
+        i += 1;
+        let f0 = i;
+        while i < text.len() && text[i].is_ascii_digit() {
+            i += 1;
+        }
+        frac_digits = &text[f0..i];
+    }
+    if int_digits.is_empty() && frac_digits.is_empty() {
+        return None;
+    }
+    push_digits(&mut norm, int_digits);
+    norm.push('.');
+    push_digits(&mut norm, frac_digits);
+    if i < text.len() {
+        match text[i] {
+            b'E' | b'e' | b'D' | b'd' => i += 1,
+            b'+' | b'-' => {}
+            _ => return None,
+        }
+        norm.push('e');
+        if let Some(&s @ (b'+' | b'-')) = text.get(i) {
+            if s == b'-' {
+                norm.push('-');
+            }
+            i += 1;
+        }
+        let e0 = i;
+        while i < text.len() && text[i].is_ascii_digit() {
+            i += 1;
+        }
+        if i == e0 || i != text.len() {
+            return None;
+        }
+        push_digits(&mut norm, &text[e0..i]);
+    }
+    let v: f64 = norm.parse().ok()?;
+    v.is_finite().then_some(v)
+}
+
+fn push_digits(out: &mut String, digits: &[u8]) {
+    if digits.is_empty() {
+        out.push('0');
+    }
+    out.extend(digits.iter().map(|&d| char::from(d)));
+}
+
+/// Why a line could not be read.
+#[derive(Debug, Clone, PartialEq)]
+pub enum LineIssue {
+    /// Neither reading is possible; the text says where each one fails.
+    Unparsable(String),
+    /// Both readings are possible and give different numbers.
+    Ambiguous {
+        /// The fixed-column values.
+        fixed: String,
+        /// The blank-separated values.
+        free: String,
+        /// Non-blank text past column 100 (ignored by the fixed reading).
+        past_100: bool,
+    },
+}
+
+/// Tokens kept from the blank-separated reading: more than any fixed reading can give.
+const MAX_FREE: usize = 16;
+
+/// Read the values of one data line (see the module text for the rule).
+pub fn read_line<T: FieldValue>(line: &[u8]) -> Result<Vec<T>, LineIssue> {
+    let fixed = read_fixed::<T>(line);
+    let free = read_free::<T>(line);
+    match (fixed, free) {
+        (Ok(a), Ok((b, count))) => {
+            if a == b && count == b.len() {
+                Ok(a)
+            } else {
+                let past_100 =
+                    line.len() > LINE_COLUMNS && line[LINE_COLUMNS..].iter().any(|&c| !is_blank(c));
+                let mut free = list(&b);
+                if count > b.len() {
+                    free = format!("{} values {}...", count, &free[..free.len() - 1]);
+                }
+                Err(LineIssue::Ambiguous {
+                    fixed: list(&a),
+                    free,
+                    past_100,
+                })
+            }
+        }
+        (Ok(a), Err(_)) => Ok(a),
+        (Err(_), Ok((b, count))) if count == b.len() => Ok(b),
+        (Err(_), Ok((_, count))) => Err(LineIssue::Unparsable(format!(
+            "the fixed-column reading fails and the blank-separated reading finds {count} values"
+        ))),
+        (Err(f), Err(w)) => Err(LineIssue::Unparsable(format!(
+            "the fixed-column reading finds {f}, the blank-separated reading finds {w}"
+        ))),
+    }
+}
+
+fn list<T: Display>(v: &[T]) -> String {
+    let items: Vec<String> = v.iter().map(ToString::to_string).collect();
+    format!("[{}]", items.join(", "))
+}
+
+/// Show at most 40 characters of raw text, lossily decoded.
+pub fn shown(text: &[u8]) -> String {
+    let cut = &text[..text.len().min(40)];
+    let mut s = String::from_utf8_lossy(cut).into_owned();
+    if text.len() > 40 {
+        s.push_str("...");
+    }
+    s
+}
+
+/// The blank-separated reading alone, when every token is a valid value (used to say
+/// more about an ambiguous header line).
+pub fn free_values<T: FieldValue>(line: &[u8]) -> Option<Vec<T>> {
+    match read_free::<T>(line) {
+        Ok((v, count)) if count == v.len() => Some(v),
+        _ => None,
+    }
+}
+
+/// Fixed-column reading of the first 100 columns: one value per non-blank field,
+/// blank fields before the last non-blank one read as zero.
+fn read_fixed<T: FieldValue>(line: &[u8]) -> Result<Vec<T>, String> {
+    let line = &line[..line.len().min(LINE_COLUMNS)];
+    let last = line
+        .iter()
+        .rposition(|&c| !is_blank(c))
+        .map_or(0, |p| p + 1);
+    let mut out = Vec::with_capacity(LINE_COLUMNS / T::WIDTH + 1);
+    for (k, field) in line[..last].chunks(T::WIDTH).enumerate() {
+        let mut buf = [0u8; 16];
+        let mut n = 0;
+        for &c in field.iter().filter(|&&c| !is_blank(c)) {
+            if let Some(slot) = buf.get_mut(n) {
+                *slot = c;
+            }
+            n += 1;
+        }
+        if n == 0 {
+            out.push(T::ZERO);
+            continue;
+        }
+        match buf.get(..n).and_then(T::parse) {
+            Some(v) => out.push(v),
+            None => {
+                let c0 = k * T::WIDTH + 1;
+                return Err(format!(
+                    "'{}' in columns {}-{}, not {}",
+                    shown(field).trim(),
+                    c0,
+                    c0 + T::WIDTH - 1,
+                    T::WHAT
+                ));
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// Blank-separated reading of the whole line: the first [`MAX_FREE`] values and the
+/// total number of tokens.
+fn read_free<T: FieldValue>(line: &[u8]) -> Result<(Vec<T>, usize), String> {
+    let mut out = Vec::new();
+    let mut count = 0;
+    let tokens = line
+        .split(|&c| is_blank(c))
+        .filter(|t| !t.is_empty())
+        .flat_map(split_touching);
+    for tok in tokens {
+        count += 1;
+        match T::parse(tok) {
+            Some(v) if out.len() < MAX_FREE => out.push(v),
+            Some(_) => {}
+            None => {
+                return Err(format!(
+                    "value {count} '{}', not {}",
+                    shown(tok),
+                    T::WHAT.split(" (").next().unwrap_or(T::WHAT)
+                ));
+            }
+        }
+    }
+    Ok((out, count))
+}
+
+/// Split a token where one number ends with an exponent written with a letter and the
+/// next begins with a sign: `0.000000000E+00-1.250000000E+01` is two numbers whichever
+/// columns they sit in (a Fortran number cannot go on after `E+00`). The letterless
+/// exponent form (`1.0-3`) is never split: `1.0-3-2.0` stays one (invalid) token.
+fn split_touching(tok: &[u8]) -> impl Iterator<Item = &[u8]> {
+    let mut start = 0;
+    let mut pieces = Vec::new();
+    for i in 1..tok.len() {
+        if !matches!(tok[i], b'+' | b'-') || !tok[i - 1].is_ascii_digit() {
+            continue;
+        }
+        let mut j = i - 1;
+        while j > start && tok[j].is_ascii_digit() {
+            j -= 1;
+        }
+        if j > start && matches!(tok[j], b'+' | b'-') {
+            j -= 1;
+        }
+        if j > start && matches!(tok[j], b'E' | b'e' | b'D' | b'd') {
+            pieces.push(&tok[start..i]);
+            start = i;
+        }
+    }
+    pieces.push(&tok[start..]);
+    pieces.into_iter()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn reals(s: &str) -> Result<Vec<f64>, LineIssue> {
+        read_line::<f64>(s.as_bytes())
+    }
+
+    #[test]
+    fn fortran_real_forms() {
+        let cases: [(&str, f64); 12] = [
+            ("1.0", 1.0),
+            ("-1.250000000E+01", -12.5),
+            ("1.5D+02", 150.0),
+            ("1.5d-2", 0.015),
+            ("1.0-3", 1.0e-3),
+            ("2.5+2", 250.0),
+            ("3", 3.0),
+            ("+.5", 0.5),
+            ("7.", 7.0),
+            ("1.000000000-300", 1.0e-300),
+            ("-0.0", -0.0),
+            ("6.02e23", 6.02e23),
+        ];
+        for (text, want) in cases {
+            assert_eq!(parse_real(text.as_bytes()), Some(want), "{text}");
+        }
+        for bad in [
+            "", ".", "E5", "1.0E", "1.0E+", "1..0", "NaN", "Inf", "1e999", "1.0x", "--1",
+        ] {
+            assert_eq!(parse_real(bad.as_bytes()), None, "{bad}");
+        }
+    }
+
+    #[test]
+    fn integers() {
+        assert_eq!(parse_int(b"-42"), Some(-42));
+        assert_eq!(parse_int(b"+7"), Some(7));
+        assert_eq!(parse_int(b"9223372036854775807"), Some(i64::MAX));
+        assert_eq!(parse_int(b"-9223372036854775808"), Some(i64::MIN));
+        assert_eq!(parse_int(b"9223372036854775808"), None);
+        assert_eq!(parse_int(b"1.0"), None);
+        assert_eq!(parse_int(b"-"), None);
+    }
+
+    #[test]
+    fn touching_numbers_read_by_columns() {
+        let line =
+            " 0.000000000E+00-1.250000000E+01 0.000000000E+00         3.5D+00           1.0-3";
+        assert_eq!(reals(line).unwrap(), vec![0.0, -12.5, 0.0, 3.5, 1.0e-3]);
+        // Only the columns tell where "1.0-03" ends and "-2.0E+00" begins.
+        let line = "          1.0-03-2.000000000E+00";
+        assert_eq!(reals(line).unwrap(), vec![1.0e-3, -2.0]);
+    }
+
+    #[test]
+    fn touching_numbers_out_of_column_are_split_after_an_exponent() {
+        // As printed in the reference guide, without the leading blank of column 1.
+        let v = reals(
+            "0.000000000E+00-1.250000000E+01 0.000000000E+00 0.000000000E+00 0.000000000E+00",
+        );
+        assert_eq!(v.unwrap(), vec![0.0, -12.5, 0.0, 0.0, 0.0]);
+        // The letterless exponent form is never split.
+        assert!(reals("1.0-3-2.0").is_err());
+    }
+
+    #[test]
+    fn blanks_inside_a_field_are_ignored() {
+        // Fixed columns read "1.2 5E+0" + "1" as [12.5, 1]; blank-separated [1.2, 50].
+        let r = reals("        1.2 5E+01");
+        assert!(matches!(r, Err(LineIssue::Ambiguous { .. })), "{r:?}");
+        // With a token no blank-separated reader accepts ("5E+"), the fixed reading is
+        // the only one, and Fortran reads "1.2 5E+ 01" as 1.25E+01.
+        assert_eq!(reals("     1.2 5E+ 01").unwrap(), vec![12.5]);
+    }
+
+    #[test]
+    fn free_format_with_tabs() {
+        assert_eq!(
+            reals("1.092357846E+01\t\t4.652573369E-07").unwrap(),
+            vec![10.92357846, 4.652573369e-7]
+        );
+        assert_eq!(
+            reals("1.0 2.0\t3.0   4.0 5.0").unwrap(),
+            vec![1.0, 2.0, 3.0, 4.0, 5.0]
+        );
+    }
+
+    #[test]
+    fn integers_that_both_readings_see_differently_are_ambiguous() {
+        match read_line::<i64>(b"3 0 2 0 0 1 0") {
+            Err(LineIssue::Ambiguous { fixed, free, .. }) => {
+                assert_eq!(fixed, "[3020, 10]");
+                assert_eq!(free, "[3, 0, 2, 0, 0, 1, 0]");
+            }
+            other => panic!("{other:?}"),
+        }
+        assert_eq!(read_line::<i64>(b"      21      22").unwrap(), vec![21, 22]);
+    }
+
+    #[test]
+    fn only_100_columns_count_for_the_fixed_reading() {
+        let mut line = " 1.000000000E+00".repeat(5);
+        line.push_str(&" ".repeat(20));
+        line.push_str("ignored-text");
+        assert_eq!(reals(&line).unwrap(), vec![1.0; 5]);
+        let mut line = " 1.000000000E+00".repeat(5);
+        line.push_str(&" ".repeat(20));
+        line.push_str("7.0");
+        match reals(&line) {
+            Err(LineIssue::Ambiguous { past_100, .. }) => assert!(past_100),
+            other => panic!("{other:?}"),
+        }
+    }
+
+    #[test]
+    fn blank_field_between_values_reads_zero_in_fixed_columns() {
+        // Fixed: [1, 0, 2]; blank-separated: [1, 2]: the line is ambiguous.
+        let line = format!("{:>16}{:16}{:>16}", "1.0", "", "2.0");
+        assert!(matches!(reals(&line), Err(LineIssue::Ambiguous { .. })));
+    }
+
+    #[test]
+    fn non_utf8_bytes_are_unparsable() {
+        let r = read_line::<f64>(b"1.0\xff\xfe 2.0");
+        assert!(matches!(r, Err(LineIssue::Unparsable(_))), "{r:?}");
+    }
+}
