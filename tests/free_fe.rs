@@ -67,8 +67,7 @@ mod json {
     pub fn parse(s: &str) -> V {
         let b = s.as_bytes();
         let mut i = 0;
-        let v = value(b, &mut i);
-        v
+        value(b, &mut i)
     }
     fn ws(b: &[u8], i: &mut usize) {
         while *i < b.len() && b[*i].is_ascii_whitespace() {
