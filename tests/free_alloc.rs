@@ -38,7 +38,7 @@ fn stepping_does_not_allocate() {
     let probe: Vec<f64> = Vec::with_capacity(16);
     assert!(ALLOCS.load(Ordering::Relaxed) > before);
     drop(probe);
-    for method in [Method::Explicit] {
+    for method in [Method::Explicit, Method::Implicit] {
         for irot in [false, true] {
             let b = free_common::cube_body(irot, 6, 2.0e4);
             let mut scene = b.scene();

@@ -206,7 +206,7 @@ fn momentum(body: &Body, v: &DVector<f64>, p: &Matrix3<f64>) -> Vector3<f64> {
 
 /// Run one response case of the reference and return the largest error of the tip and
 /// mid-node displacements, relative to the largest reference displacement.
-fn response_error(method: Method, case: &str, substeps: usize) -> (f64, f64) {
+fn response_error(method: Method, case: &str, stride: usize) -> (f64, f64) {
     let fx = freefree();
     let r = fx
         .reference
@@ -247,19 +247,19 @@ fn response_error(method: Method, case: &str, substeps: usize) -> (f64, f64) {
         .flat_map(|c| c.iter().flat_map(|v| v.iter()))
         .fold(0.0f64, |m, v| m.max(v.abs()));
     let mut worst: f64 = 0.0;
-    for n in 0..t.len() - 1 {
-        let h = t[n + 1] - t[n];
+    let mut n = 0;
+    while n + stride < t.len() {
+        let h = t[n + stride] - t[n];
         let on = t[n] < duration - 1e-12;
         loads[6 * tip_k + 1] = if on { amp } else { 0.0 };
         s.set_loads(&loads).unwrap();
-        for _ in 0..substeps {
-            s.step(h / substeps as f64).unwrap();
-        }
+        s.step(h).unwrap();
+        n += stride;
         s.positions(&mut x);
         for (k, rc) in refs.iter().enumerate() {
             for c in 0..3 {
                 let u = x[3 * k + c] - x0[3 * k + c];
-                worst = worst.max((u - rc[c][n + 1]).abs());
+                worst = worst.max((u - rc[c][n]).abs());
             }
         }
     }
@@ -281,6 +281,29 @@ fn step_explicit_matches_fe() {
     let (err, peak) = response_error(Method::Explicit, "step", 1);
     println!("explicit step: error {err:.3e} of peak {peak:.3e} m");
     assert!(err < 0.01, "explicit step error {err:.3e} of the peak");
+}
+
+/// Implicit at the reference sampling (25 us): pulse and step within 1 % of the peak.
+#[test]
+fn implicit_matches_fe() {
+    for case in ["pulse", "step"] {
+        let (err, peak) = response_error(Method::Implicit, case, 1);
+        println!("implicit {case}, h = 25 us: error {err:.3e} of peak {peak:.3e} m");
+        assert!(err < 0.01, "implicit {case} error {err:.3e} of the peak");
+    }
+}
+
+/// Implicit with 100 us steps (omega_max h = 0.5, 20 steps in the pulse): the pulse
+/// response stays within 3 % of the peak (the 2.6 % measured is the second-order period
+/// error of the 300-800 Hz modes accumulated over 70 ms, about (omega h)^2/12 per
+/// radian), the step response, dominated by the rigid motion, within 1 %.
+#[test]
+fn implicit_large_step_matches_fe() {
+    for (case, tol) in [("pulse", 0.03), ("step", 0.01)] {
+        let (err, peak) = response_error(Method::Implicit, case, 4);
+        println!("implicit {case}, h = 100 us: error {err:.3e} of peak {peak:.3e} m");
+        assert!(err < tol, "implicit {case} error {err:.3e} of the peak");
+    }
 }
 
 /// The pulse on the fixture: the momentum change equals the impulse to 1e-7 relative.

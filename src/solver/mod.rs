@@ -136,13 +136,10 @@ pub fn build(
     if !scene.body.iblo {
         return match method {
             Method::Explicit => Ok(Box::new(free::Explicit::new(scene, opts)?)),
+            Method::Implicit => Ok(Box::new(free::Implicit::new(scene, opts)?)),
             Method::Exact => Err(SolverError::Unsupported {
                 method,
                 why: "exact modal stepping needs a blocked body (Iblo=1)".into(),
-            }),
-            _ => Err(SolverError::Unsupported {
-                method,
-                why: "not implemented yet for free bodies".into(),
             }),
         };
     }

@@ -14,9 +14,11 @@ use crate::body::Body;
 use crate::scene::Scene;
 
 pub mod explicit;
+pub mod implicit;
 mod lu;
 
 pub use explicit::Explicit;
+pub use implicit::Implicit;
 
 /// Global initial coordinates of every node of a free body that comes without a node
 /// deck, derived from its rigid modes.
@@ -105,6 +107,23 @@ pub(crate) fn frame_omega(p: &Matrix3<f64>, v: &[f64]) -> Vector3<f64> {
         w[r] = (0..12).map(|i| b[r][i] * v[i]).sum();
     }
     w
+}
+
+/// Time derivative of the frame angular velocity at fixed frame-point accelerations,
+/// `dB/dt v_R[0..12]`: the part of `d omega / dt` that comes from the moving frame,
+/// `-e1_dot (e2.e3_dot) - e1 (e2_dot.e3_dot) + e2_dot (e1.e3_dot) + e2 (e1_dot.e3_dot)
+///  - e3_dot (e1.e2_dot) - e3 (e1_dot.e2_dot)`.
+pub(crate) fn omega_rate_from_frame(p: &Matrix3<f64>, v: &[f64]) -> Vector3<f64> {
+    let v0 = point_vec(v, 0);
+    let d1 = point_vec(v, 1) - v0;
+    let d2 = point_vec(v, 2) - v0;
+    let d3 = point_vec(v, 3) - v0;
+    let e1 = p.column(0).into_owned();
+    let e2 = p.column(1).into_owned();
+    let e3 = p.column(2).into_owned();
+    -d1 * e2.dot(&d3) - e1 * d2.dot(&d3) + d2 * e1.dot(&d3) + e2 * d1.dot(&d3)
+        - d3 * e1.dot(&d2)
+        - e3 * d1.dot(&d2)
 }
 
 /// Loads on the exposed nodes: values set at `t_set` plus rates.
@@ -463,6 +482,17 @@ impl Model {
             origin: [o[0], o[1], o[2]],
             p: pr,
         }
+    }
+
+    /// Frame from coordinates: `P = P0 + [q_Lj - q_L0]_j`.
+    pub fn frame_of(&self, q: &[f64]) -> Matrix3<f64> {
+        let mut p = self.p0;
+        for j in 0..3 {
+            for c in 0..3 {
+                p[(c, j)] += q[3 * j + c] - q[9 + c];
+            }
+        }
+        p
     }
 
     /// Check the length of a load slice.
