@@ -68,6 +68,7 @@ struct Work {
     mc: DMatrix<f64>,
     kc: DMatrix<f64>,
     mvn: DMatrix<f64>,
+    mstar: DMatrix<f64>,
     f_r: DVector<f64>,
     f_l: DVector<f64>,
     s_l: DVector<f64>,
@@ -90,6 +91,7 @@ impl Explicit {
             mc: DMatrix::zeros(nr, nl),
             kc: DMatrix::zeros(nr, nl),
             mvn: DMatrix::zeros(nr, nl),
+            mstar: DMatrix::zeros(nr, nr),
             f_r: DVector::zeros(nr),
             f_l: DVector::zeros(nl),
             s_l: DVector::zeros(nl),
@@ -175,13 +177,24 @@ impl Explicit {
         // Step 5 matrix, upper-left block: M* = M_R - MVN M_C^T.
         let nc = m.nc();
         w.kkt.clear();
+        w.mstar.copy_from(&m.m_r);
+        {
+            let (mvn, mc) = (w.mvn.as_slice(), w.mc.as_slice());
+            let ms = w.mstar.as_mut_slice();
+            for j in 0..nl {
+                let a = &mvn[j * nr..(j + 1) * nr];
+                let b = &mc[j * nr..(j + 1) * nr];
+                for (k, &bk) in b.iter().enumerate() {
+                    let col = &mut ms[k * nr..(k + 1) * nr];
+                    for (x, &ai) in col.iter_mut().zip(a) {
+                        *x -= ai * bk;
+                    }
+                }
+            }
+        }
         for i in 0..nr {
             for k in 0..nr {
-                let mut s = m.m_r[(i, k)];
-                for j in 0..nl {
-                    s -= w.mvn[(i, j)] * w.mc[(k, j)];
-                }
-                *w.kkt.at(i, k) = s;
+                *w.kkt.at(i, k) = w.mstar[(i, k)];
             }
             w.rhs[i] = w.s_r[i];
         }

@@ -317,10 +317,12 @@ impl Model {
             for l in 0..3 {
                 let idx = 3 * k + l;
                 let (pm, pk) = (p[(k, l)], p[(l, k)]);
-                for (x, y) in mc.iter_mut().zip(self.m_c_kl[idx].iter()) {
+                let src = self.m_c_kl[idx].as_slice();
+                for (x, y) in mc.as_mut_slice().iter_mut().zip(src) {
                     *x += pm * y;
                 }
-                for (x, y) in kc.iter_mut().zip(self.k_c_kl[idx].iter()) {
+                let src = self.k_c_kl[idx].as_slice();
+                for (x, y) in kc.as_mut_slice().iter_mut().zip(src) {
                     *x += pk * y;
                 }
             }
