@@ -112,6 +112,8 @@ def build(irot):
     return raw, body
 
 
+JUMP = [-4.0, 1.0, 2.0, 0.0, 0.5, -0.1, 2.0, 0.0, -1.5, 0.3, 0.0, 0.2]
+
 PAIRS = [(1, 0, 1.0), (2, 0, 1.0), (3, 0, 1.0), (2, 1, 2.0), (3, 1, 2.0), (3, 2, 2.0)]
 
 
@@ -131,7 +133,7 @@ def accelerations(body, scene, st, t, dt1, dt2):
         for j in range(4):
             s[3 * j + c] = g[c]
     nodes = scene["nodes"]
-    loads = np.array(scene["loads"]) + np.array(scene["rates"]) * t
+    loads = np.array(st["load_values"]) + np.array(scene["rates"]) * (t - st["t_set"])
     # Step 2: loads with the current frame; M_C, K_C.
     FR, FL = np.zeros(nr), np.zeros(nl)
     for k, nd in enumerate(nodes):
@@ -187,10 +189,13 @@ def accelerations(body, scene, st, t, dt1, dt2):
     return accR, accL
 
 
-def run(body, scene, comm, nsub):
-    """Communication steps `comm`, each split into `nsub` equal internal steps. At a
-    communication point the velocities are synchronised (v^n = v^(n-1/2) + dt/2 a^n with
-    the loads at that time) and the next step restarts from them with dt1 = 0."""
+def run(body, scene, comm, nsub, jump=None):
+    """Communication steps `comm`, each split into `nsub` equal internal steps. Loads
+    `scene["loads"]` set at t = 0 with rates `scene["rates"]`; with `jump`, the load
+    values are set to `jump` at the start of the second communication step. After such a
+    jump the scheme restarts: velocities synchronised with the old loads
+    (v^n = v^(n-1/2) + dt/2 a^n) and dt1 = 0. Without a jump the internal steps continue
+    across the communication point with dt1 = the previous step."""
     nr, nl, irot = body["nr"], body["nl"], body["irot"]
     p0 = body["p0"]
     V, W = np.array(scene["v0"]), np.array(scene["w0"])
@@ -200,14 +205,18 @@ def run(body, scene, comm, nsub):
     vR[9:12] = V
     if irot:
         vR[12:15] = W
-    st = dict(qR=np.zeros(nr), vR=vR, vL=np.zeros(nl), alpha=np.zeros(nl), P=p0.copy())
-    t, dt_prev = 0.0, 0.0
-    for h in comm:
-        if dt_prev > 0:
-            aR_, aL_ = accelerations(body, scene, st, t, dt_prev, dt_prev)
-            st["vR"] = st["vR"] + dt_prev / 2 * aR_
-            st["vL"] = st["vL"] + dt_prev / 2 * aL_
-        dt1 = 0.0
+    st = dict(qR=np.zeros(nr), vR=vR, vL=np.zeros(nl), alpha=np.zeros(nl), P=p0.copy(),
+              load_values=np.array(scene["loads"], dtype=float), t_set=0.0)
+    t, dt1 = 0.0, 0.0
+    for k, h in enumerate(comm):
+        if k == 1 and jump is not None:
+            # Synchronised velocities with the old loads, then the new loads.
+            aR_, aL_ = accelerations(body, scene, st, t, dt1, dt1)
+            st["vR"] = st["vR"] + dt1 / 2 * aR_
+            st["vL"] = st["vL"] + dt1 / 2 * aL_
+            st["load_values"] = np.array(jump, dtype=float)
+            st["t_set"] = t
+            dt1 = 0.0
         dt2 = h / nsub
         for _ in range(nsub):
             accR, accL = accelerations(body, scene, st, t, dt1, dt2)
@@ -222,7 +231,6 @@ def run(body, scene, comm, nsub):
             st["P"] = p0 + np.stack([qR[3 * j:3 * j + 3] - qR[9:12] for j in range(3)], 1)
             t += dt2
             dt1 = dt2
-        dt_prev = dt2
     qR, alpha, P = st["qR"], st["alpha"], st["P"]
     pos = []
     for nd in scene["nodes"]:
@@ -245,7 +253,9 @@ def main():
         tag = "ROT" if irot else "NOROT"
         dt_fx = 1 / (np.pi * body["freq"])  # undamped bound; the scheme's steps stay below
         # Case A: one communication step of two internal steps (h = 1.4 x 0.9 dt_fx).
-        # Case B: two communication steps of one internal step each (restart between).
+        # Case B: two communication steps of one internal step each, loads unchanged
+        # (variable steps dt1 != dt2 across the communication point).
+        # Case C: as B with a load jump at the second communication step (restart).
         ha = 1.4 * 0.9 * dt_fx
         hb = [0.31 * dt_fx, 0.47 * dt_fx]
         scene = dict(nodes=[0, 2], gravity=[0.3, -0.2, -9.81], v0=[0.4, -0.3, 0.2],
@@ -254,6 +264,7 @@ def main():
                      rates=[10.0, 0.0, -5.0, 1.0, 0.0, 0.0, 0.0, 3.0, 0.0, 0.0, -2.0, 0.0])
         out1 = run(body, scene, [ha], 2)
         out2 = run(body, scene, hb, 1)
+        out3 = run(body, scene, hb, 1, jump=JUMP)
         print(f"// ---- {tag} body (irot = {irot})")
         print(f"pub mod {tag.lower()} {{")
         print(rs("P0", raw["p0"]))
@@ -264,6 +275,7 @@ def main():
         print(rs("X0", body["x"]))
         print(f"pub const HA: f64 = {float(ha)!r};")
         print(rs("HB", hb))
+        print(rs("JUMP", JUMP))
         print(rs("QA", out1["q"]))
         print(rs("VA", out1["v"]))
         print(rs("PA", out1["p"].reshape(-1)))
@@ -271,6 +283,9 @@ def main():
         print(rs("VB", out2["v"]))
         print(rs("PB", out2["p"].reshape(-1)))
         print(rs("POSB", out2["pos"]))
+        print(rs("QC", out3["q"]))
+        print(rs("VC", out3["v"]))
+        print(rs("PC", out3["p"].reshape(-1)))
         print("}")
 
 

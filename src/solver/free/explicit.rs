@@ -10,12 +10,20 @@
 //! with the frame `P^n` (the frame of the same instant, as step 8 maps `v^(n+1/2)` with
 //! the mid-step frame).
 //!
-//! Co-simulation addition: each communication step restarts the scheme from these
-//! synchronised velocities (`dt1 = 0`, as at the very first cycle). With continuous loads
-//! this is the reference scheme (the two half kicks add up to `dt12 a^n`); when the master
-//! changes a held load at a communication point, the old value acts up to that point and
-//! the new one from it, so a held load over a step delivers exactly its impulse `F h`
-//! (the plain scheme would apply the new value half a step early).
+//! Co-simulation addition: when the master changes a held load at a communication point
+//! (a jump in value; rates keep the load continuous and need nothing), the next step
+//! restarts the scheme from these synchronised velocities (`dt1 = 0`, as at the very
+//! first cycle): the old value acts up to that point and the new one from it, so a load
+//! held over a step delivers exactly its impulse `F h` (the plain scheme would apply the
+//! new value half a step early). Without a jump the internal steps simply continue the
+//! reference scheme across communication points (variable steps through dt1, dt2), so
+//! N steps of h and one step of N h give the same numbers.
+//!
+//! A property of the reference scheme worth knowing: the constraint rows act along the
+//! predicted edges `d + dt2 w`, not along `d`, which removes rotational kinetic energy at
+//! a relative rate of about `omega^2 dt` per unit time (measured 5.7 % over 20 s at
+//! omega = 0.71 rad/s, dt = 5 ms, and four times less at dt/4). At real bodies' stable
+//! steps (dt_fx of 1e-4 s and below) this is negligible.
 //!
 //! Irot = 1 adds three rows that tie the rates of rigid DOFs 13..15 to the frame angular
 //! velocity (derivation). Section 2 gives local `omega_l = (-e2.e3_dot, e1.e3_dot,
@@ -58,6 +66,8 @@ pub struct Explicit {
     p: Matrix3<f64>,
     /// Accelerations `a^n` at the current time (synchronised outputs).
     a_out: DVector<f64>,
+    /// The loads jumped at the current time: restart the scheme at the next step.
+    jump: bool,
     loads: Loads,
     w: Work,
 }
@@ -112,6 +122,7 @@ impl Explicit {
             q: DVector::zeros(nq),
             v,
             a_out: DVector::zeros(nq),
+            jump: false,
             w,
         };
         s.evaluate_outputs()?;
@@ -320,7 +331,7 @@ impl Explicit {
 
     fn state_len(&self) -> usize {
         let nq = self.m.nq();
-        3 + 3 * nq + 9 + self.loads.state_len()
+        4 + 3 * nq + 9 + self.loads.state_len()
     }
 }
 
@@ -335,6 +346,16 @@ impl Solver for Explicit {
 
     fn set_loads(&mut self, loads: &[f64]) -> Result<(), SolverError> {
         self.m.check_loads("loads", loads)?;
+        let t = self.t;
+        // A jump is a change beyond round-off of the value the load function has now (a
+        // master re-sending a continuous load computes it in its own way).
+        let jumped = loads.iter().enumerate().any(|(i, &l)| {
+            let old = self.loads.at(i, t);
+            (l - old).abs() > 1e-12 * l.abs().max(old.abs())
+        });
+        if jumped {
+            self.jump = true;
+        }
         self.loads.values.copy_from_slice(loads);
         self.loads.t_set = self.t;
         Ok(())
@@ -357,12 +378,13 @@ impl Solver for Explicit {
         }
         let (n, dt) = self.internal_step(h);
         let t0 = self.t;
-        // Restart from the synchronised velocities: the old loads act over the half
-        // step before this communication point, the new ones from it on.
-        if self.dt1 > 0.0 {
+        // After a load jump, restart from the synchronised velocities: the old loads act
+        // over the half step before this communication point, the new ones from it on.
+        if self.jump && self.dt1 > 0.0 {
             self.v.axpy(0.5 * self.dt1, &self.a_out, 1.0);
             self.dt1 = 0.0;
         }
+        self.jump = false;
         for k in 0..n {
             self.substep(dt)?;
             self.t = if k + 1 == n {
@@ -425,7 +447,12 @@ impl Solver for Explicit {
 
     fn state(&self) -> State {
         let mut d = Vec::with_capacity(self.state_len());
-        d.extend_from_slice(&[self.t, self.dt1, self.dt_last]);
+        d.extend_from_slice(&[
+            self.t,
+            self.dt1,
+            self.dt_last,
+            f64::from(u8::from(self.jump)),
+        ]);
         d.extend_from_slice(self.q.as_slice());
         d.extend_from_slice(self.v.as_slice());
         d.extend_from_slice(self.a_out.as_slice());
@@ -456,7 +483,8 @@ impl Solver for Explicit {
         self.t = d[0];
         self.dt1 = d[1];
         self.dt_last = d[2];
-        let mut o = 3;
+        self.jump = d[3] != 0.0;
+        let mut o = 4;
         self.q.copy_from_slice(&d[o..o + nq]);
         o += nq;
         self.v.copy_from_slice(&d[o..o + nq]);
