@@ -143,7 +143,7 @@ pub fn build(
             }),
         };
     }
-    let _ = opts;
+    let _ = (scene, opts);
     Err(SolverError::Unsupported {
         method,
         why: "not implemented yet".into(),

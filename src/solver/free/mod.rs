@@ -6,6 +6,19 @@
 //! `alpha` the local modal amplitudes. The frame matrix is `P = P0 + [q_Lj - q_L0]_j`
 //! (column j = edge L0->Lj); it stays orthonormal through six distance constraints on
 //! the frame points, never by re-orthonormalisation.
+//!
+//! Methods: [`Explicit`], the reference central-difference scheme of FORMULATION.md
+//! section 4 sub-cycled at `dt_factor x dt_fx` (its module documents the Irot = 1 rows
+//! and the co-simulation restart), and [`Implicit`], generalised-alpha on the
+//! index-3 constrained system, not bound by dt_fx. Both keep every per-step matrix in
+//! preallocated storage and solve their saddle-point systems with an in-place LU.
+//!
+//! Outputs: node positions `x0 + u` and velocities (frame of the same instant), node
+//! accelerations (without the `P_dot` terms the formulation leaves out), rotation rates
+//! (frame or rotational-DOF rate plus the local modes' rotations), the frame (L0 position
+//! and P; L0's initial position is found from the exposed nodes' coordinates and the
+//! rigid modes, so it is the origin when no node is exposed) and the energies of
+//! section 3.
 
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 
