@@ -29,7 +29,7 @@
 //! velocity (derivation). Section 2 gives local `omega_l = (-e2.e3_dot, e1.e3_dot,
 //! -e1.e2_dot)` with `e_j_dot = v_Lj - v_L0` and global `omega = P omega_l`; for a given
 //! frame this is linear in the frame-point velocities, `omega = B(P) v_R[0..12]` (see
-//! [`super::omega_matrix`] for B). The condition is imposed on the new half-step
+//! `omega_matrix` (parent module) for B). The condition is imposed on the new half-step
 //! velocities, `v_rot^(n+1/2) = B(R) v_12^(n+1/2)`, and with
 //! `v^(n+1/2) = v^(n-1/2) + dt12 a` it becomes the acceleration row
 //! `a_rot - B a_12 = (B v_12^(n-1/2) - v_rot^(n-1/2)) / dt12`, whose right side also
