@@ -102,7 +102,15 @@ struct Work {
     vn: DVector<f64>,
     an: DVector<f64>,
     res: Vec<f64>,
+    /// Rigid + constraint block after eliminating the local unknowns.
     kkt: Lu,
+    small: Vec<f64>,
+    /// Local iteration matrix, factored, for the step-size key `lkey`.
+    lfac: Lu,
+    lkey: Option<(f64, f64)>,
+    ykl: Vec<DMatrix<f64>>,
+    y: DMatrix<f64>,
+    z: Vec<f64>,
     /// Saved state for a step that has to be split.
     save: [DVector<f64>; 5],
 }
@@ -137,7 +145,13 @@ impl Implicit {
             vn: z.clone(),
             an: z.clone(),
             res: vec![0.0; nq + nc],
-            kkt: Lu::new(nq + nc),
+            kkt: Lu::new(nr + nc),
+            small: vec![0.0; nr + nc],
+            lfac: Lu::new(nl),
+            lkey: None,
+            ykl: vec![DMatrix::zeros(nl, nr); 9],
+            y: DMatrix::zeros(nl, nr),
+            z: vec![0.0; nl],
             save: [
                 z.clone(),
                 z.clone(),
@@ -180,7 +194,7 @@ impl Implicit {
         m.frame_matrices(&p, &mut w.mc, &mut w.kc);
         m.project_loads(&self.loads, self.t, &p, &mut w.f_r, &mut w.f_l);
         w.kkt.clear();
-        fill_mass(m, &w.mc, &mut w.kkt);
+        fill_mass(m, &mut w.kkt);
         // Right side: the forces.
         let alpha = self.q.rows(nr, nl);
         let vl = self.v.rows(nr, nl);
@@ -206,13 +220,13 @@ impl Implicit {
         for (r, &(a, b, _)) in PAIRS.iter().enumerate() {
             let d = edge(&p, a) - edge(&p, b);
             let wv = point_vec(v, a) - point_vec(v, b);
-            let row = nq + r;
+            let (row, kr) = (nq + r, nr + r);
             for c in 0..3 {
                 let (oa, ob) = (point_offset(a) + c, point_offset(b) + c);
-                *w.kkt.at(row, oa) -= sc * d[c];
-                *w.kkt.at(row, ob) += sc * d[c];
-                *w.kkt.at(oa, row) -= sc * d[c];
-                *w.kkt.at(ob, row) += sc * d[c];
+                *w.kkt.at(kr, oa) -= sc * d[c];
+                *w.kkt.at(kr, ob) += sc * d[c];
+                *w.kkt.at(oa, kr) -= sc * d[c];
+                *w.kkt.at(ob, kr) += sc * d[c];
             }
             w.res[row] = sc * wv.norm_squared();
         }
@@ -220,21 +234,18 @@ impl Implicit {
             let bm = omega_matrix(&p);
             let bd = omega_rate_from_frame(&p, v);
             for r in 0..3 {
-                let row = nq + 6 + r;
+                let (row, kr) = (nq + 6 + r, nr + 6 + r);
                 for (i, &bri) in bm[r].iter().enumerate() {
-                    *w.kkt.at(row, i) -= sc * bri;
-                    *w.kkt.at(i, row) -= sc * bri;
+                    *w.kkt.at(kr, i) -= sc * bri;
+                    *w.kkt.at(i, kr) -= sc * bri;
                 }
-                *w.kkt.at(row, 12 + r) += sc;
-                *w.kkt.at(12 + r, row) += sc;
+                *w.kkt.at(kr, 12 + r) += sc;
+                *w.kkt.at(12 + r, kr) += sc;
                 w.res[row] = sc * bd[r];
             }
         }
-        let ratio = w.kkt.factor();
-        if ratio.is_nan() || ratio <= SINGULAR_RATIO {
-            return Err(singular_error(ratio));
-        }
-        w.kkt.solve(&mut w.res);
+        self.schur_solve(&p, 0.0, 0.0)?;
+        let w = &mut self.w;
         for i in 0..nq {
             self.acc[i] = w.res[i];
             self.a[i] = w.res[i];
@@ -276,18 +287,7 @@ impl Implicit {
             m.project_loads(&self.loads, t1, &p, &mut w.f_r, &mut w.f_l);
             // Iteration matrix: M + gt D + bt K_t, constraint rows.
             w.kkt.clear();
-            fill_mass(m, &w.mc, &mut w.kkt);
-            for i in 0..nr {
-                for j in 0..nl {
-                    *w.kkt.at(i, nr + j) += bt * w.kc[(i, j)];
-                }
-            }
-            for j in 0..nl {
-                for k in 0..nl {
-                    *w.kkt.at(nr + j, nr + k) += (bt + gt * m.ray_b) * m.k_l[(j, k)];
-                }
-                *w.kkt.at(nr + j, nr + j) += gt * m.ray_a * m.m_l[j];
-            }
+            fill_mass(m, &mut w.kkt);
             // Residual of the dynamic equations, R1 = M x - F - A^T lambda (negated in res).
             let alpha = w.qn.rows(nr, nl);
             for i in 0..nr {
@@ -317,7 +317,7 @@ impl Implicit {
                 let phi = d.norm_squared() - c;
                 cmax = cmax.max(phi.abs());
                 let lam = w.lam[r];
-                let row = nq + r;
+                let (row, kr) = (nq + r, nr + r);
                 for cc in 0..3 {
                     let (oa, ob) = (point_offset(a) + cc, point_offset(b) + cc);
                     let g = 2.0 * d[cc];
@@ -328,36 +328,33 @@ impl Implicit {
                     *w.kkt.at(ob, ob) -= bt * 2.0 * lam;
                     *w.kkt.at(oa, ob) += bt * 2.0 * lam;
                     *w.kkt.at(ob, oa) += bt * 2.0 * lam;
-                    *w.kkt.at(row, oa) -= sc * g;
-                    *w.kkt.at(row, ob) += sc * g;
-                    *w.kkt.at(oa, row) -= sc * g;
-                    *w.kkt.at(ob, row) += sc * g;
+                    *w.kkt.at(kr, oa) -= sc * g;
+                    *w.kkt.at(kr, ob) += sc * g;
+                    *w.kkt.at(oa, kr) -= sc * g;
+                    *w.kkt.at(ob, kr) += sc * g;
                 }
                 w.res[row] = sc * phi / bt;
             }
             if m.irot {
                 let bm = omega_matrix(&p);
                 for r in 0..3 {
-                    let row = nq + 6 + r;
+                    let (row, kr) = (nq + 6 + r, nr + 6 + r);
                     let lam = w.lam[6 + r];
                     let mut g = -vn[12 + r];
                     for (i, &bri) in bm[r].iter().enumerate() {
                         g += bri * vn[i];
                         w.res[i] += bri * lam;
-                        *w.kkt.at(row, i) -= sc * bri;
-                        *w.kkt.at(i, row) -= sc * bri;
+                        *w.kkt.at(kr, i) -= sc * bri;
+                        *w.kkt.at(i, kr) -= sc * bri;
                     }
                     w.res[12 + r] -= lam;
-                    *w.kkt.at(row, 12 + r) += sc;
-                    *w.kkt.at(12 + r, row) += sc;
+                    *w.kkt.at(kr, 12 + r) += sc;
+                    *w.kkt.at(12 + r, kr) += sc;
                     w.res[row] = sc * g / gt;
                 }
             }
-            let ratio = w.kkt.factor();
-            if ratio.is_nan() || ratio <= SINGULAR_RATIO {
-                return Err(singular_error(ratio));
-            }
-            w.kkt.solve(&mut w.res);
+            self.schur_solve(&p, bt, gt)?;
+            let w = &mut self.w;
             let mut dmax: f64 = 0.0;
             let mut xmax: f64 = 0.0;
             for i in 0..nq {
@@ -400,6 +397,105 @@ impl Implicit {
         Ok(())
     }
 
+    /// Solve the Newton (or initial-acceleration) system whose rigid block and
+    /// constraint rows are in `w.kkt` and whose right side is `w.res` (layout rigid,
+    /// local, constraints), by eliminating the local unknowns: the local block
+    /// `L = diag(m_L)(1 + gt a_R) + (bt + gt beta) K_L` depends on the step size only, so
+    /// it is factored once per step size together with `L^-1 M_C,kl^T` for the nine
+    /// sub-blocks; each iteration then costs O(nL (nR + nL)) plus the small
+    /// (nR + constraints) solve, instead of a dense solve of the whole system.
+    /// On return `w.res` holds `[dx_R; dx_L; dlambda / mass_scale]`.
+    fn schur_solve(&mut self, p: &Matrix3<f64>, bt: f64, gt: f64) -> Result<(), SolverError> {
+        let m = &self.m;
+        let w = &mut self.w;
+        let (nr, nl, nq, nc) = (m.nr, m.nl, m.nq(), m.nc());
+        if w.lkey != Some((bt, gt)) {
+            w.lfac.clear();
+            for j in 0..nl {
+                for k in 0..nl {
+                    *w.lfac.at(j, k) = (bt + gt * m.ray_b) * m.k_l[(j, k)];
+                }
+                *w.lfac.at(j, j) += m.m_l[j] * (1.0 + gt * m.ray_a);
+            }
+            let ratio = w.lfac.factor();
+            if ratio.is_nan() || ratio <= SINGULAR_RATIO {
+                return Err(SolverError::Singular(format!(
+                    "local iteration matrix is singular (pivot ratio {ratio:.1e})"
+                )));
+            }
+            for (idx, y) in w.ykl.iter_mut().enumerate() {
+                for i in 0..nr {
+                    for j in 0..nl {
+                        w.z[j] = m.m_c_kl[idx][(i, j)];
+                    }
+                    w.lfac.solve(&mut w.z);
+                    for j in 0..nl {
+                        y[(j, i)] = w.z[j];
+                    }
+                }
+            }
+            w.lkey = Some((bt, gt));
+        }
+        // Y = L^-1 M_C^T with M_C = sum P_kl M_C,kl.
+        w.y.fill(0.0);
+        for k in 0..3 {
+            for l in 0..3 {
+                let pk = p[(k, l)];
+                for (a, b) in
+                    w.y.as_mut_slice()
+                        .iter_mut()
+                        .zip(w.ykl[3 * k + l].as_slice())
+                {
+                    *a += pk * b;
+                }
+            }
+        }
+        // z = L^-1 r_L.
+        w.z.copy_from_slice(&w.res[nr..nq]);
+        w.lfac.solve(&mut w.z);
+        // Reduced system: (A_RR - A_RL Y) dx_R - A^T dl = r_R - A_RL z, A_RL = M_C + bt K_C.
+        for i in 0..nr {
+            let mut r = w.res[i];
+            for j in 0..nl {
+                r -= (w.mc[(i, j)] + bt * w.kc[(i, j)]) * w.z[j];
+            }
+            w.small[i] = r;
+        }
+        for r in 0..nc {
+            w.small[nr + r] = w.res[nq + r];
+        }
+        for k in 0..nr {
+            let yk = &w.y.as_slice()[k * nl..(k + 1) * nl];
+            for i in 0..nr {
+                let mut s = 0.0;
+                for (j, &yjk) in yk.iter().enumerate() {
+                    s += (w.mc[(i, j)] + bt * w.kc[(i, j)]) * yjk;
+                }
+                *w.kkt.at(i, k) -= s;
+            }
+        }
+        let ratio = w.kkt.factor();
+        if ratio.is_nan() || ratio <= SINGULAR_RATIO {
+            return Err(singular_error(ratio));
+        }
+        w.kkt.solve(&mut w.small);
+        // Back substitution: dx_L = z - Y dx_R.
+        for i in 0..nr {
+            w.res[i] = w.small[i];
+        }
+        for j in 0..nl {
+            let mut s = w.z[j];
+            for i in 0..nr {
+                s -= w.y[(j, i)] * w.small[i];
+            }
+            w.res[nr + j] = s;
+        }
+        for r in 0..nc {
+            w.res[nq + r] = w.small[nr + r];
+        }
+        Ok(())
+    }
+
     fn save(&mut self) {
         let w = &mut self.w;
         w.save[0].copy_from(&self.q);
@@ -425,20 +521,12 @@ impl Implicit {
     }
 }
 
-/// The mass block `[M_R, M_C; M_C^T, diag m_L]` into the top-left of the matrix.
-fn fill_mass(m: &Model, mc: &DMatrix<f64>, kkt: &mut Lu) {
-    let (nr, nl) = (m.nr, m.nl);
-    for i in 0..nr {
-        for k in 0..nr {
+/// The rigid mass M_R into the top-left of the reduced (rigid + constraint) matrix.
+fn fill_mass(m: &Model, kkt: &mut Lu) {
+    for i in 0..m.nr {
+        for k in 0..m.nr {
             *kkt.at(i, k) = m.m_r[(i, k)];
         }
-        for j in 0..nl {
-            *kkt.at(i, nr + j) = mc[(i, j)];
-            *kkt.at(nr + j, i) = mc[(i, j)];
-        }
-    }
-    for j in 0..nl {
-        *kkt.at(nr + j, nr + j) = m.m_l[j];
     }
 }
 
