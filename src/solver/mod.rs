@@ -19,6 +19,7 @@ mod dense;
 pub mod exact;
 pub mod explicit;
 mod expm;
+pub mod free;
 pub mod implicit;
 pub mod nodes;
 
@@ -161,10 +162,14 @@ pub fn build(
     opts: &Options,
 ) -> Result<Box<dyn Solver>, SolverError> {
     if !scene.body.iblo {
-        return Err(SolverError::Unsupported {
-            method,
-            why: "free bodies (Iblo=0) are not handled by this build".into(),
-        });
+        return match method {
+            Method::Explicit => Ok(Box::new(free::Explicit::new(scene, opts)?)),
+            Method::Implicit => Ok(Box::new(free::Implicit::new(scene, opts)?)),
+            Method::Exact => Err(SolverError::Unsupported {
+                method,
+                why: "exact modal stepping needs a blocked body (Iblo=1)".into(),
+            }),
+        };
     }
     match method {
         Method::Exact => Ok(Box::new(Exact::new(scene)?)),

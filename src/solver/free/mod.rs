@@ -1,0 +1,540 @@
+//! Free (floating) bodies, Iblo = 0: the kinematics shared by the explicit and implicit
+//! methods (FORMULATION.md sections 2 and 3).
+//!
+//! Coordinates: `q = [q_R; alpha]` with `q_R` the displacements of the frame points L1,
+//! L2, L3, L0 (3 each, global frame), then three rotational DOFs when Irot = 1, and
+//! `alpha` the local modal amplitudes. The frame matrix is `P = P0 + [q_Lj - q_L0]_j`
+//! (column j = edge L0->Lj); it stays orthonormal through six distance constraints on
+//! the frame points, never by re-orthonormalisation.
+//!
+//! Methods: [`Explicit`], the reference central-difference scheme of FORMULATION.md
+//! section 4 sub-cycled at `dt_factor x dt_fx` (its module documents the Irot = 1 rows
+//! and the co-simulation restart), and [`Implicit`], generalised-alpha on the
+//! index-3 constrained system, not bound by dt_fx. Both keep every per-step matrix in
+//! preallocated storage and solve their saddle-point systems with an in-place LU.
+//!
+//! Outputs: node positions `x0 + u` and velocities (frame of the same instant), node
+//! accelerations (without the `P_dot` terms the formulation leaves out), rotation rates
+//! (frame or rotational-DOF rate plus the local modes' rotations), the frame (L0 position
+//! and P; L0's initial position is found from the exposed nodes' coordinates and the
+//! rigid modes, so it is the origin when no node is exposed) and the energies of
+//! section 3.
+
+use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
+
+use super::SolverError;
+use crate::body::Body;
+use crate::scene::Scene;
+
+pub mod explicit;
+pub mod implicit;
+mod lu;
+
+pub use explicit::Explicit;
+pub use implicit::Implicit;
+
+/// Global initial coordinates of every node of a free body that comes without a node
+/// deck, derived from its rigid modes.
+///
+/// Rigid mode 1 is `X e_1` on the translation rows, mode 4 is `Y e_1` and mode 7 is
+/// `Z e_1` (FORMULATION.md section 1), so the x-translation rows of modes 1, 4 and 7
+/// give each node's local coordinates `(X, Y, Z)`. The frame origin L0 is placed at the
+/// global origin and the frame is `P0`: `x0 = P0 (X, Y, Z)`. A deck, when there is one,
+/// fixes the true placement instead. Returns an empty list for a blocked body (no rigid
+/// modes).
+pub fn coords_from_rigid_modes(body: &Body) -> Vec<[f64; 3]> {
+    if body.nr() < 12 {
+        return Vec::new();
+    }
+    (0..body.nnodes())
+        .map(|n| {
+            let r = 6 * n;
+            let local = Vector3::new(body.phi_r[(r, 0)], body.phi_r[(r, 3)], body.phi_r[(r, 6)]);
+            let x = body.p0 * local;
+            [x[0], x[1], x[2]]
+        })
+        .collect()
+}
+
+/// The six distance constraints: frame points (a, b) (0 = L0, j = Lj) and the target
+/// squared distance.
+pub(crate) const PAIRS: [(usize, usize, f64); 6] = [
+    (1, 0, 1.0),
+    (2, 0, 1.0),
+    (3, 0, 1.0),
+    (2, 1, 2.0),
+    (3, 1, 2.0),
+    (3, 2, 2.0),
+];
+
+/// Offset of frame point `p` (0 = L0, 1..3 = L1..L3) in `q_R`.
+#[inline]
+pub(crate) fn point_offset(p: usize) -> usize {
+    if p == 0 { 9 } else { 3 * (p - 1) }
+}
+
+/// Edge vector of frame point `p` relative to L0: zero for L0, column j of P for Lj.
+#[inline]
+pub(crate) fn edge(p: &Matrix3<f64>, point: usize) -> Vector3<f64> {
+    if point == 0 {
+        Vector3::zeros()
+    } else {
+        p.column(point - 1).into_owned()
+    }
+}
+
+/// Velocity (or acceleration) of frame point `p` read from the rigid part of a vector.
+#[inline]
+pub(crate) fn point_vec(v: &[f64], point: usize) -> Vector3<f64> {
+    let o = point_offset(point);
+    Vector3::new(v[o], v[o + 1], v[o + 2])
+}
+
+/// The 3 x 12 matrix B(P) with `omega = B v_R[0..12]`: the frame angular velocity
+/// (global components) from the frame point velocities, FORMULATION.md section 2:
+/// local `omega_l = (-e2.e3_dot, e1.e3_dot, -e1.e2_dot)` with `e_j_dot = v_Lj - v_L0`,
+/// global `omega = P omega_l`, i.e.
+/// `omega = -e1 e2^T (v3 - v0) + e2 e1^T (v3 - v0) - e3 e1^T (v2 - v0)`.
+pub(crate) fn omega_matrix(p: &Matrix3<f64>) -> [[f64; 12]; 3] {
+    let e1 = p.column(0);
+    let e2 = p.column(1);
+    let e3 = p.column(2);
+    let mut b = [[0.0; 12]; 3];
+    for (r, row) in b.iter_mut().enumerate() {
+        for c in 0..3 {
+            let on_v3 = -e1[r] * e2[c] + e2[r] * e1[c];
+            let on_v2 = -e3[r] * e1[c];
+            row[6 + c] = on_v3;
+            row[3 + c] = on_v2;
+            row[9 + c] = -on_v3 - on_v2;
+        }
+    }
+    b
+}
+
+/// Frame angular velocity (global) from the rigid velocities and the frame.
+pub(crate) fn frame_omega(p: &Matrix3<f64>, v: &[f64]) -> Vector3<f64> {
+    let b = omega_matrix(p);
+    let mut w = Vector3::zeros();
+    for r in 0..3 {
+        w[r] = (0..12).map(|i| b[r][i] * v[i]).sum();
+    }
+    w
+}
+
+/// Time derivative of the frame angular velocity at fixed frame-point accelerations,
+/// `dB/dt v_R[0..12]`: the part of `d omega / dt` that comes from the moving frame,
+/// `-e1_dot (e2.e3_dot) - e1 (e2_dot.e3_dot) + e2_dot (e1.e3_dot) + e2 (e1_dot.e3_dot)
+///  - e3_dot (e1.e2_dot) - e3 (e1_dot.e2_dot)`.
+pub(crate) fn omega_rate_from_frame(p: &Matrix3<f64>, v: &[f64]) -> Vector3<f64> {
+    let v0 = point_vec(v, 0);
+    let d1 = point_vec(v, 1) - v0;
+    let d2 = point_vec(v, 2) - v0;
+    let d3 = point_vec(v, 3) - v0;
+    let e1 = p.column(0).into_owned();
+    let e2 = p.column(1).into_owned();
+    let e3 = p.column(2).into_owned();
+    -d1 * e2.dot(&d3) - e1 * d2.dot(&d3) + d2 * e1.dot(&d3) + e2 * d1.dot(&d3)
+        - d3 * e1.dot(&d2)
+        - e3 * d1.dot(&d2)
+}
+
+/// Loads on the exposed nodes: values set at `t_set` plus rates.
+#[derive(Debug, Clone)]
+pub(crate) struct Loads {
+    pub values: Vec<f64>,
+    pub rates: Vec<f64>,
+    pub t_set: f64,
+}
+
+impl Loads {
+    fn new(n: usize) -> Loads {
+        Loads {
+            values: vec![0.0; n],
+            rates: vec![0.0; n],
+            t_set: 0.0,
+        }
+    }
+
+    /// Load component `i` at time `t`.
+    #[inline]
+    pub fn at(&self, i: usize, t: f64) -> f64 {
+        self.values[i] + self.rates[i] * (t - self.t_set)
+    }
+
+    /// Push into a state vector.
+    pub fn save(&self, out: &mut Vec<f64>) {
+        out.extend_from_slice(&self.values);
+        out.extend_from_slice(&self.rates);
+        out.push(self.t_set);
+    }
+
+    /// Read back from a state vector.
+    pub fn load(&mut self, data: &[f64]) {
+        let n = self.values.len();
+        self.values.copy_from_slice(&data[..n]);
+        self.rates.copy_from_slice(&data[n..2 * n]);
+        self.t_set = data[2 * n];
+    }
+
+    /// Number of state values.
+    pub fn state_len(&self) -> usize {
+        2 * self.values.len() + 1
+    }
+}
+
+/// The matrices of a free body restricted to a scene, and the kinematic maps shared by
+/// the free-body methods.
+#[derive(Debug, Clone)]
+pub(crate) struct Model {
+    /// Number of rigid coordinates (12 or 15).
+    pub nr: usize,
+    /// Number of local modes.
+    pub nl: usize,
+    /// Rotational DOFs (Irot = 1).
+    pub irot: bool,
+    /// Number of exposed nodes.
+    pub nexp: usize,
+    /// Initial frame.
+    pub p0: Matrix3<f64>,
+    /// Initial global position of L0.
+    pub origin0: Vector3<f64>,
+    pub m_r: DMatrix<f64>,
+    pub m_c_kl: Vec<DMatrix<f64>>,
+    pub k_c_kl: Vec<DMatrix<f64>>,
+    pub m_l: DVector<f64>,
+    pub k_l: DMatrix<f64>,
+    /// Rayleigh alpha (mass) and beta (stiffness).
+    pub ray_a: f64,
+    pub ray_b: f64,
+    /// Rigid modes at the exposed nodes, `6 m x nr`.
+    pub phi_r: DMatrix<f64>,
+    /// Local modes at the exposed nodes, `6 m x nl`.
+    pub phi_l: DMatrix<f64>,
+    /// Initial coordinates of the exposed nodes.
+    pub x0: Vec<Vector3<f64>>,
+    /// Uniform-translation pattern of gravity, `s` (nr).
+    pub s_grav: DVector<f64>,
+    /// `G_R = M_R s`.
+    pub g_r: DVector<f64>,
+    /// Largest frequency of (K_L, m_L), Hz.
+    pub freq_max: f64,
+    /// Mass scale used to scale constraint rows.
+    pub mass_scale: f64,
+}
+
+impl Model {
+    /// Check the body and collect what the methods need.
+    pub fn new(scene: &Scene) -> Result<Model, SolverError> {
+        let body = &scene.body;
+        let bad = |why: String| SolverError::Singular(why);
+        if body.iblo {
+            return Err(bad("a blocked body (Iblo=1) is not a free body".into()));
+        }
+        let nr = body.nr();
+        let nl = body.nl();
+        let want = if body.irot { 15 } else { 12 };
+        if nr != want {
+            return Err(bad(format!("free body needs {want} rigid modes, has {nr}")));
+        }
+        if body.m_r.nrows() != nr || body.m_r.ncols() != nr {
+            return Err(bad(format!("M_R must be {nr}x{nr}")));
+        }
+        if body.m_c.len() != 9 || body.k_c.len() != 9 {
+            return Err(bad("M_C and K_C need nine sub-blocks each".into()));
+        }
+        for m in body.m_c.iter().chain(body.k_c.iter()) {
+            if m.nrows() != nr || m.ncols() != nl {
+                return Err(bad(format!("M_C,kl and K_C,kl must be {nr}x{nl}")));
+            }
+        }
+        if body.m_l.iter().any(|&m| m.is_nan() || m <= 0.0) {
+            return Err(bad("local masses m_L must be > 0".into()));
+        }
+        if scene.x0.len() != scene.nodes.len() {
+            return Err(SolverError::BadLength {
+                what: "scene x0",
+                expected: scene.nodes.len(),
+                found: scene.x0.len(),
+            });
+        }
+        if let Some(&n) = scene.nodes.iter().find(|&&n| n >= body.nnodes()) {
+            return Err(bad(format!("exposed node index {n} is not in the body")));
+        }
+        let phi_r = scene.exposed_rows(&body.phi_r);
+        let phi_l = scene.exposed_rows(&body.phi_l);
+        let x0: Vec<Vector3<f64>> = scene.x0.iter().map(|x| Vector3::from(*x)).collect();
+        // L0 from the exposed nodes: x0_n = x_L0 + P0 (X, Y, Z)_n.
+        let mut origin0 = Vector3::zeros();
+        for (k, x) in x0.iter().enumerate() {
+            let local = Vector3::new(phi_r[(6 * k, 0)], phi_r[(6 * k, 3)], phi_r[(6 * k, 6)]);
+            origin0 += x - body.p0 * local;
+        }
+        if !x0.is_empty() {
+            origin0 /= x0.len() as f64;
+        }
+        let mut s_grav = DVector::zeros(nr);
+        for c in 0..3 {
+            for j in 0..4 {
+                s_grav[3 * j + c] = scene.gravity[c];
+            }
+        }
+        let g_r = &body.m_r * &s_grav;
+        let freq_max = body.frequencies_hz.iter().cloned().fold(0.0, f64::max);
+        let damping = body.damping.unwrap_or_default();
+        let mass_scale = (0..12).map(|i| body.m_r[(i, i)].abs()).fold(0.0, f64::max);
+        if mass_scale <= 0.0 || !mass_scale.is_finite() {
+            return Err(bad(
+                "M_R has no positive diagonal: the body has no mass".into()
+            ));
+        }
+        Ok(Model {
+            nr,
+            nl,
+            irot: body.irot,
+            nexp: scene.nodes.len(),
+            p0: body.p0,
+            origin0,
+            m_r: body.m_r.clone(),
+            m_c_kl: body.m_c.clone(),
+            k_c_kl: body.k_c.clone(),
+            m_l: body.m_l.clone(),
+            k_l: body.k_l.clone(),
+            ray_a: damping.alpha,
+            ray_b: damping.beta,
+            phi_r,
+            phi_l,
+            x0,
+            s_grav,
+            g_r,
+            freq_max,
+            mass_scale,
+        })
+    }
+
+    /// Number of coordinates `nr + nl`.
+    pub fn nq(&self) -> usize {
+        self.nr + self.nl
+    }
+
+    /// Number of constraint rows (6, or 9 with Irot = 1).
+    pub fn nc(&self) -> usize {
+        if self.irot { 9 } else { 6 }
+    }
+
+    /// `M_C = sum_kl P_kl M_C,kl` and `K_C = sum_kl P_lk K_C,kl` (transposed P element).
+    pub fn frame_matrices(&self, p: &Matrix3<f64>, mc: &mut DMatrix<f64>, kc: &mut DMatrix<f64>) {
+        mc.fill(0.0);
+        kc.fill(0.0);
+        for k in 0..3 {
+            for l in 0..3 {
+                let idx = 3 * k + l;
+                let (pm, pk) = (p[(k, l)], p[(l, k)]);
+                let src = self.m_c_kl[idx].as_slice();
+                for (x, y) in mc.as_mut_slice().iter_mut().zip(src) {
+                    *x += pm * y;
+                }
+                let src = self.k_c_kl[idx].as_slice();
+                for (x, y) in kc.as_mut_slice().iter_mut().zip(src) {
+                    *x += pk * y;
+                }
+            }
+        }
+    }
+
+    /// Generalised forces of the nodal loads at time `t` with frame `p`
+    /// (FORMULATION.md section 2); overwrites `f_r` and `f_l`.
+    pub fn project_loads(
+        &self,
+        loads: &Loads,
+        t: f64,
+        p: &Matrix3<f64>,
+        f_r: &mut DVector<f64>,
+        f_l: &mut DVector<f64>,
+    ) {
+        f_r.fill(0.0);
+        f_l.fill(0.0);
+        for k in 0..self.nexp {
+            let b = 6 * k;
+            let f = Vector3::new(loads.at(b, t), loads.at(b + 1, t), loads.at(b + 2, t));
+            let m = Vector3::new(loads.at(b + 3, t), loads.at(b + 4, t), loads.at(b + 5, t));
+            if f == Vector3::zeros() && m == Vector3::zeros() {
+                continue;
+            }
+            for i in 0..self.nr {
+                let rows = if i < 12 { b } else { b + 3 };
+                let g = if i < 12 { &f } else { &m };
+                f_r[i] += (0..3)
+                    .map(|c| g[c] * self.phi_r[(rows + c, i)])
+                    .sum::<f64>();
+            }
+            let fl = p.tr_mul(&f);
+            let ml = p.tr_mul(&m);
+            for j in 0..self.nl {
+                let mut s = 0.0;
+                for c in 0..3 {
+                    s += fl[c] * self.phi_l[(b + c, j)] + ml[c] * self.phi_l[(b + 3 + c, j)];
+                }
+                f_l[j] += s;
+            }
+        }
+    }
+
+    /// `G_L = M_C^T s` for the current M_C, added to `out`.
+    pub fn add_gravity_local(&self, mc: &DMatrix<f64>, out: &mut DVector<f64>) {
+        out.gemv_tr(1.0, mc, &self.s_grav, 1.0);
+    }
+
+    /// Initial velocities from a body velocity V and angular velocity w:
+    /// `v_L0 = V`, `v_Lj = V + w x P0(:,j)`; with Irot = 1 the rotational DOF rates are w.
+    pub fn initial_velocity(&self, vb: [f64; 3], wb: [f64; 3], v: &mut DVector<f64>) {
+        v.fill(0.0);
+        let vv = Vector3::from(vb);
+        let w = Vector3::from(wb);
+        for j in 1..4 {
+            let vj = vv + w.cross(&self.p0.column(j - 1));
+            let o = point_offset(j);
+            v.rows_mut(o, 3).copy_from(&vj);
+        }
+        v.rows_mut(9, 3).copy_from(&vv);
+        if self.irot {
+            v.rows_mut(12, 3).copy_from(&w);
+        }
+    }
+
+    /// Strain energy `1/2 alpha^T K_L alpha`.
+    pub fn strain_energy(&self, q: &DVector<f64>) -> f64 {
+        let a = q.rows(self.nr, self.nl);
+        0.5 * (a.transpose() * &self.k_l * a)[(0, 0)]
+    }
+
+    /// Kinetic energy `1/2 v_R^T M_R v_R + v_R^T M_C v_L + 1/2 sum m_L v_L^2` with
+    /// `M_C` for the frame `p`.
+    pub fn kinetic_energy(&self, v: &DVector<f64>, p: &Matrix3<f64>) -> f64 {
+        let vr = v.rows(0, self.nr);
+        let vl = v.rows(self.nr, self.nl);
+        let mut e = 0.5 * vr.dot(&(&self.m_r * vr));
+        for k in 0..3 {
+            for l in 0..3 {
+                let pk = p[(k, l)];
+                if pk != 0.0 {
+                    e += pk * vr.dot(&(&self.m_c_kl[3 * k + l] * vl));
+                }
+            }
+        }
+        e + 0.5
+            * (0..self.nl)
+                .map(|j| self.m_l[j] * vl[j] * vl[j])
+                .sum::<f64>()
+    }
+
+    /// Node vector field `sum_{i<12} r_i Phi_R,i(n)_trans + P sum_j l_j Phi_L,j(n)_trans`
+    /// of exposed node `k` for a coordinate-like vector `x = [r; l]` (displacement,
+    /// velocity or acceleration).
+    pub fn node_field(&self, k: usize, x: &DVector<f64>, p: &Matrix3<f64>) -> Vector3<f64> {
+        let b = 6 * k;
+        let mut rig = Vector3::zeros();
+        let mut loc = Vector3::zeros();
+        for c in 0..3 {
+            rig[c] = (0..12).map(|i| x[i] * self.phi_r[(b + c, i)]).sum::<f64>();
+            loc[c] = (0..self.nl)
+                .map(|j| x[self.nr + j] * self.phi_l[(b + c, j)])
+                .sum::<f64>();
+        }
+        rig + p * loc
+    }
+
+    /// Positions `x0 + u` of the exposed nodes.
+    pub fn positions(&self, q: &DVector<f64>, p: &Matrix3<f64>, out: &mut [f64]) {
+        for k in 0..self.nexp.min(out.len() / 3) {
+            let x = self.x0[k] + self.node_field(k, q, p);
+            out[3 * k..3 * k + 3].copy_from_slice(x.as_slice());
+        }
+    }
+
+    /// Node vector field of every exposed node (velocities or accelerations).
+    pub fn fields(&self, x: &DVector<f64>, p: &Matrix3<f64>, out: &mut [f64]) {
+        for k in 0..self.nexp.min(out.len() / 3) {
+            let f = self.node_field(k, x, p);
+            out[3 * k..3 * k + 3].copy_from_slice(f.as_slice());
+        }
+    }
+
+    /// Node rotation rates: the frame's angular velocity (Irot = 0) or the rotational
+    /// DOF rates `sum_{13..15} v_R,i Phi_R,i(n)_rot` (Irot = 1), plus
+    /// `P sum_j alpha_dot_j Phi_L,j(n)_rot`.
+    pub fn rotation_rates(&self, v: &DVector<f64>, p: &Matrix3<f64>, out: &mut [f64]) {
+        let w = frame_omega(p, v.as_slice());
+        for k in 0..self.nexp.min(out.len() / 3) {
+            let b = 6 * k + 3;
+            let mut rig = Vector3::zeros();
+            let mut loc = Vector3::zeros();
+            for c in 0..3 {
+                rig[c] = if self.irot {
+                    (12..15).map(|i| v[i] * self.phi_r[(b + c, i)]).sum::<f64>()
+                } else {
+                    w[c]
+                };
+                loc[c] = (0..self.nl)
+                    .map(|j| v[self.nr + j] * self.phi_l[(b + c, j)])
+                    .sum::<f64>();
+            }
+            let r = rig + p * loc;
+            out[3 * k..3 * k + 3].copy_from_slice(r.as_slice());
+        }
+    }
+
+    /// The frame output: origin of L0 and P row-major.
+    pub fn frame(&self, q: &DVector<f64>, p: &Matrix3<f64>) -> super::Frame {
+        let o = self.origin0 + Vector3::new(q[9], q[10], q[11]);
+        let mut pr = [0.0; 9];
+        for r in 0..3 {
+            for c in 0..3 {
+                pr[3 * r + c] = p[(r, c)];
+            }
+        }
+        super::Frame {
+            origin: [o[0], o[1], o[2]],
+            p: pr,
+        }
+    }
+
+    /// Frame from coordinates: `P = P0 + [q_Lj - q_L0]_j`.
+    pub fn frame_of(&self, q: &[f64]) -> Matrix3<f64> {
+        let mut p = self.p0;
+        for j in 0..3 {
+            for c in 0..3 {
+                p[(c, j)] += q[3 * j + c] - q[9 + c];
+            }
+        }
+        p
+    }
+
+    /// Check the length of a load slice.
+    pub fn check_loads(&self, what: &'static str, x: &[f64]) -> Result<(), SolverError> {
+        if x.len() != 6 * self.nexp {
+            return Err(SolverError::BadLength {
+                what,
+                expected: 6 * self.nexp,
+                found: x.len(),
+            });
+        }
+        if x.iter().any(|v| !v.is_finite()) {
+            return Err(SolverError::BadState(format!(
+                "{what}: values must be finite"
+            )));
+        }
+        Ok(())
+    }
+}
+
+/// Pivot ratio below which a saddle-point matrix counts as singular.
+pub(crate) const SINGULAR_RATIO: f64 = 1e-13;
+
+/// The error for a singular saddle-point system.
+pub(crate) fn singular_error(ratio: f64) -> SolverError {
+    SolverError::Singular(format!(
+        "the rigid-motion system is singular (pivot ratio {ratio:.1e}): a body whose \
+         nodes all lie on one line has no inertia about that line"
+    ))
+}
