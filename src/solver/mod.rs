@@ -4,6 +4,12 @@
 
 use crate::scene::Scene;
 
+pub mod exact;
+mod expm;
+pub mod nodes;
+
+pub use exact::Exact;
+
 /// Integration method. The numbers are the FMI enumeration values.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Method {
@@ -126,14 +132,26 @@ pub trait Solver: Send {
 }
 
 /// Build a solver for a scene with the chosen method.
+///
+/// Blocked bodies (Iblo=1) are linear and every method handles them; the exact method
+/// exists only for them. Free bodies are not handled here yet.
 pub fn build(
     scene: &Scene,
     method: Method,
     opts: &Options,
 ) -> Result<Box<dyn Solver>, SolverError> {
-    let _ = (scene, opts);
-    Err(SolverError::Unsupported {
-        method,
-        why: "not implemented yet".into(),
-    })
+    let _ = opts;
+    if !scene.body.iblo {
+        return Err(SolverError::Unsupported {
+            method,
+            why: "free bodies (Iblo=0) are not handled by this build".into(),
+        });
+    }
+    match method {
+        Method::Exact => Ok(Box::new(Exact::new(scene)?)),
+        Method::Implicit | Method::Explicit => Err(SolverError::Unsupported {
+            method,
+            why: "not implemented yet".into(),
+        }),
+    }
 }

@@ -1,0 +1,223 @@
+//! What every blocked-body method shares: the exposed-node rows of the local modes turned
+//! into the global frame, the load held by the caller (value, rate, time it was set) and
+//! its projection onto the modes, and the node outputs. Everything is sized at build
+//! time; nothing here allocates after [`Exposed::new`].
+
+use nalgebra::{DMatrix, DVector, DVectorViewMut};
+
+use super::SolverError;
+use crate::scene::Scene;
+
+/// Exposed-node rows of a mode basis in the global frame, and the caller's load.
+///
+/// For a basis `B` (`nL x nb`: the identity for the physical coordinates, or the modal
+/// basis of the exact method), `g` holds `[P0 Phi_trans(n); P0 Phi_rot(n)] B` for each
+/// exposed node n (6 rows per node), so that the generalised load is `g^T [f; m]`
+/// (FORMULATION.md section 2 with P = P0) and the displacement of node n is the
+/// translation rows times the coordinates.
+#[derive(Debug, Clone)]
+pub struct Exposed {
+    /// Number of exposed nodes m.
+    pub nodes: usize,
+    /// `6m x nb`: load projection rows.
+    pub g: DMatrix<f64>,
+    /// `3m x nb`: global translation rows.
+    pub gt: DMatrix<f64>,
+    /// `3m x nb`: global rotation rows (zero for nodes without rotational DOFs).
+    pub gr: DMatrix<f64>,
+    /// Initial global coordinates, 3 per exposed node.
+    pub x0: DVector<f64>,
+    /// Loads as set by the caller (6 per node), the value at `t_set`.
+    pub loads: DVector<f64>,
+    /// Load rates (6 per node, per second).
+    pub rates: DVector<f64>,
+    /// Time at which `loads` holds.
+    pub t_set: f64,
+    /// `g^T loads`.
+    pub f: DVector<f64>,
+    /// `g^T rates`.
+    pub fd: DVector<f64>,
+}
+
+impl Exposed {
+    /// Precompute the rows for the scene's exposed nodes in the basis `basis`
+    /// (`nL x nb`).
+    pub fn new(scene: &Scene, basis: &DMatrix<f64>) -> Result<Exposed, SolverError> {
+        let body = &scene.body;
+        let m = scene.nodes.len();
+        if scene.x0.len() != m {
+            return Err(SolverError::BadLength {
+                what: "scene node coordinates",
+                expected: m,
+                found: scene.x0.len(),
+            });
+        }
+        if let Some(&bad) = scene.nodes.iter().find(|&&n| n >= body.nnodes()) {
+            return Err(SolverError::BadState(format!(
+                "exposed node index {bad} is outside the body's {} nodes",
+                body.nnodes()
+            )));
+        }
+        let nb = basis.ncols();
+        let rows = scene.exposed_rows(&body.phi_l) * basis;
+        let mut g = DMatrix::zeros(6 * m, nb);
+        let mut gt = DMatrix::zeros(3 * m, nb);
+        let mut gr = DMatrix::zeros(3 * m, nb);
+        for (k, &node) in scene.nodes.iter().enumerate() {
+            let rot = body.node_has_rotation(node);
+            for j in 0..nb {
+                for c in 0..3 {
+                    let mut t = 0.0;
+                    let mut r = 0.0;
+                    for l in 0..3 {
+                        t += body.p0[(c, l)] * rows[(6 * k + l, j)];
+                        r += body.p0[(c, l)] * rows[(6 * k + 3 + l, j)];
+                    }
+                    if !rot {
+                        r = 0.0;
+                    }
+                    g[(6 * k + c, j)] = t;
+                    g[(6 * k + 3 + c, j)] = r;
+                    gt[(3 * k + c, j)] = t;
+                    gr[(3 * k + c, j)] = r;
+                }
+            }
+        }
+        let x0 = DVector::from_iterator(3 * m, scene.x0.iter().flat_map(|p| p.iter().copied()));
+        Ok(Exposed {
+            nodes: m,
+            g,
+            gt,
+            gr,
+            x0,
+            loads: DVector::zeros(6 * m),
+            rates: DVector::zeros(6 * m),
+            t_set: 0.0,
+            f: DVector::zeros(nb),
+            fd: DVector::zeros(nb),
+        })
+    }
+
+    fn check_len(&self, what: &'static str, v: &[f64]) -> Result<(), SolverError> {
+        if v.len() != 6 * self.nodes {
+            return Err(SolverError::BadLength {
+                what,
+                expected: 6 * self.nodes,
+                found: v.len(),
+            });
+        }
+        if v.iter().any(|x| !x.is_finite()) {
+            return Err(SolverError::BadState(format!(
+                "{what}: values must be finite"
+            )));
+        }
+        Ok(())
+    }
+
+    /// Loads at time `now`: stored and projected; the rate is kept.
+    pub fn set_loads(&mut self, loads: &[f64], now: f64) -> Result<(), SolverError> {
+        self.check_len("loads", loads)?;
+        self.loads.copy_from_slice(loads);
+        self.t_set = now;
+        self.f.gemv_tr(1.0, &self.g, &self.loads, 0.0);
+        Ok(())
+    }
+
+    /// New rates from `now` on. The load value reached at `now` becomes the new base, so
+    /// the load stays continuous.
+    pub fn set_rates(&mut self, rates: &[f64], now: f64) -> Result<(), SolverError> {
+        self.check_len("load rates", rates)?;
+        let dt = now - self.t_set;
+        self.loads.axpy(dt, &self.rates, 1.0);
+        self.f.gemv_tr(1.0, &self.g, &self.loads, 0.0);
+        self.t_set = now;
+        self.rates.copy_from_slice(rates);
+        self.fd.gemv_tr(1.0, &self.g, &self.rates, 0.0);
+        Ok(())
+    }
+
+    /// Generalised load component `i` at time `t`.
+    #[inline]
+    pub fn force(&self, i: usize, t: f64) -> f64 {
+        self.f[i] + self.fd[i] * (t - self.t_set)
+    }
+
+    /// Generalised load at time `t` into `out` (length nb).
+    pub fn force_into(&self, t: f64, out: &mut DVector<f64>) {
+        let dt = t - self.t_set;
+        for ((o, &f), &fd) in out.iter_mut().zip(self.f.iter()).zip(self.fd.iter()) {
+            *o = f + fd * dt;
+        }
+    }
+
+    /// Node positions `x0 + gt c` for coordinates `c`. A short `out` gets the first
+    /// values only (the contract is 3 per exposed node).
+    pub fn positions(&self, c: &DVector<f64>, out: &mut [f64]) {
+        let n = out.len().min(3 * self.nodes);
+        let mut o = DVectorViewMut::from_slice(&mut out[..n], n);
+        o.copy_from(&self.x0.rows(0, n));
+        o.gemv(1.0, &self.gt.rows(0, n), c, 1.0);
+    }
+
+    /// Translation rows times `c` (velocities or accelerations).
+    pub fn translations(&self, c: &DVector<f64>, out: &mut [f64]) {
+        let n = out.len().min(3 * self.nodes);
+        let mut o = DVectorViewMut::from_slice(&mut out[..n], n);
+        o.gemv(1.0, &self.gt.rows(0, n), c, 0.0);
+    }
+
+    /// Rotation rows times `c` (rotation rates from modal velocities).
+    pub fn rotations(&self, c: &DVector<f64>, out: &mut [f64]) {
+        let n = out.len().min(3 * self.nodes);
+        let mut o = DVectorViewMut::from_slice(&mut out[..n], n);
+        o.gemv(1.0, &self.gr.rows(0, n), c, 0.0);
+    }
+
+    /// Length of the saved load part: `t_set`, loads, rates.
+    pub fn saved_len(&self) -> usize {
+        1 + 12 * self.nodes
+    }
+
+    /// Append the load part of a state.
+    pub fn save(&self, data: &mut Vec<f64>) {
+        data.push(self.t_set);
+        data.extend(self.loads.iter());
+        data.extend(self.rates.iter());
+    }
+
+    /// Restore the load part of a state (length already checked) and re-project it.
+    pub fn restore(&mut self, data: &[f64]) {
+        let m6 = 6 * self.nodes;
+        self.t_set = data[0];
+        self.loads.copy_from_slice(&data[1..1 + m6]);
+        self.rates.copy_from_slice(&data[1 + m6..1 + 2 * m6]);
+        self.f.gemv_tr(1.0, &self.g, &self.loads, 0.0);
+        self.fd.gemv_tr(1.0, &self.g, &self.rates, 0.0);
+    }
+}
+
+/// Cut a saved state into its parts after checking method and length.
+pub fn check_state(
+    state: &super::State,
+    method: super::Method,
+    expected: usize,
+) -> Result<(), SolverError> {
+    if state.method != method {
+        return Err(SolverError::BadState(format!(
+            "saved by method {:?}, this solver runs {:?}",
+            state.method, method
+        )));
+    }
+    if state.data.len() != expected {
+        return Err(SolverError::BadState(format!(
+            "expected {expected} numbers for this scene and method, got {}",
+            state.data.len()
+        )));
+    }
+    if state.data.iter().any(|x| !x.is_finite()) {
+        return Err(SolverError::BadState(
+            "state holds a non-finite number".into(),
+        ));
+    }
+    Ok(())
+}
