@@ -46,6 +46,16 @@ pub enum BodyError {
         /// The value.
         value: f64,
     },
+    /// Numbers so large that the matrix computations overflow.
+    #[error("{name}: {block}: values too large: {what} is not finite")]
+    Overflow {
+        /// Source file.
+        name: String,
+        /// Block holding the matrix.
+        block: Block,
+        /// What overflowed.
+        what: &'static str,
+    },
     /// Nbnod = 0.
     #[error("{name}: block 1 (general data): expected at least one node, found Nbnod = 0")]
     NoNodes {
@@ -231,6 +241,14 @@ pub(super) fn check_raw(f: &FxbFile, name: &str) -> Result<(), BodyError> {
             value: frame[index],
         });
     }
+    // Before assembly: the eigen analysis divides by sqrt(m_L).
+    if let Some((j, &value)) = f.m_l.iter().enumerate().find(|(_, v)| **v <= 0.0) {
+        return Err(BodyError::NonPositiveMass {
+            name: name.into(),
+            mode: j + 1,
+            value,
+        });
+    }
     Ok(())
 }
 
@@ -238,12 +256,13 @@ pub(super) fn check_raw(f: &FxbFile, name: &str) -> Result<(), BodyError> {
 pub(super) fn check_body(b: &Body, name: &str) -> Result<Vec<String>, BodyError> {
     let mut warnings = Vec::new();
     check_frame(&b.p0, name)?;
-    if let Some((j, &value)) = b.m_l.iter().enumerate().find(|(_, v)| **v <= 0.0) {
-        return Err(BodyError::NonPositiveMass {
-            name: name.into(),
-            mode: j + 1,
-            value,
-        });
+    let overflow = |block: u8, what: &'static str| BodyError::Overflow {
+        name: name.into(),
+        block: Block::new(block),
+        what,
+    };
+    if !b.frequencies_hz.iter().all(|f| f.is_finite()) {
+        return Err(overflow(9, "an eigenfrequency of (K_L, m_L)"));
     }
     if b.nl() > 0 {
         if b.freq_file <= 0.0 {
@@ -253,7 +272,11 @@ pub(super) fn check_body(b: &Body, name: &str) -> Result<Vec<String>, BodyError>
             });
         }
         let scale = b.k_l.amax();
-        let min = b.k_l.clone().symmetric_eigenvalues().min();
+        let eig = b.k_l.clone().symmetric_eigenvalues();
+        if !scale.is_finite() || !eig.iter().all(|v| v.is_finite()) {
+            return Err(overflow(9, "an eigenvalue of K_L"));
+        }
+        let min = eig.min();
         if min < -PSD_TOL * scale * (b.nl() as f64) {
             return Err(BodyError::StiffnessNotPsd {
                 name: name.into(),
@@ -318,7 +341,15 @@ pub(super) fn rigid_motions(p0: &Matrix3<f64>, nr: usize) -> DMatrix<f64> {
 }
 
 fn check_rigid_mass(b: &Body, name: &str) -> Result<(), BodyError> {
+    let overflow = |what: &'static str| BodyError::Overflow {
+        name: name.into(),
+        block: Block::new(11),
+        what,
+    };
     let eig = b.m_r.clone().symmetric_eigenvalues();
+    if !eig.iter().all(|v| v.is_finite()) {
+        return Err(overflow("an eigenvalue of M_R"));
+    }
     let (min, max) = (eig.min(), eig.max());
     if max <= 0.0 || min < -PSD_TOL * max * (b.nr() as f64) {
         return Err(BodyError::RigidMassNotPsd {
@@ -341,6 +372,9 @@ fn check_rigid_mass(b: &Body, name: &str) -> Result<(), BodyError> {
     let grr = g.view((3, 3), (3, 3)).into_owned();
     let jc = &grr - gtr.transpose() * chol.solve(&gtr);
     let jc = (&jc + jc.transpose()) * 0.5;
+    if !jc.iter().all(|v| v.is_finite()) {
+        return Err(overflow("the rigid-body inertia R^T M_R R"));
+    }
     let e = jc.symmetric_eigenvalues();
     if e.max() <= 0.0 || e.min() <= SINGULAR_TOL * e.max() {
         return Err(BodyError::SingularRotation {

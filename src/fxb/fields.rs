@@ -203,6 +203,15 @@ pub fn shown(text: &[u8]) -> String {
     s
 }
 
+/// The blank-separated reading alone, when every token is a valid value (used to say
+/// more about an ambiguous header line).
+pub fn free_values<T: FieldValue>(line: &[u8]) -> Option<Vec<T>> {
+    match read_free::<T>(line) {
+        Ok((v, count)) if count == v.len() => Some(v),
+        _ => None,
+    }
+}
+
 /// Fixed-column reading of the first 100 columns: one value per non-blank field,
 /// blank fields before the last non-blank one read as zero.
 fn read_fixed<T: FieldValue>(line: &[u8]) -> Result<Vec<T>, String> {

@@ -35,21 +35,36 @@ pub fn read_path(path: &Path) -> Result<FxbFile, FxbError> {
 
 /// Parse the text of a `.fxb` file (a `&str` or raw bytes). `file_name` is only used in
 /// error messages. Bytes that are not UTF-8 are allowed in comments and are an
-/// unparsable-field error anywhere else.
+/// unparsable-field error anywhere else; a leading byte-order mark is skipped.
 pub fn parse(text: impl AsRef<[u8]>, file_name: &str) -> Result<FxbFile, FxbError> {
-    reader::parse_bytes(text.as_ref(), file_name)
+    // A byte-order mark, as some Windows editors write, is not part of line 1.
+    let text = text.as_ref();
+    let text = text.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(text);
+    reader::parse_bytes(text, file_name)
 }
 
 /// Why [`load_body`] failed: the file could not be read, or its numbers do not make a
-/// valid body.
+/// valid body. Boxed to keep `Result<Body, LoadError>` small.
 #[derive(Debug, thiserror::Error)]
 pub enum LoadError {
     /// Reading or parsing failed.
     #[error(transparent)]
-    File(#[from] FxbError),
+    File(Box<FxbError>),
     /// The numbers failed a physical check.
     #[error(transparent)]
-    Body(#[from] BodyError),
+    Body(Box<BodyError>),
+}
+
+impl From<FxbError> for LoadError {
+    fn from(e: FxbError) -> Self {
+        LoadError::File(Box::new(e))
+    }
+}
+
+impl From<BodyError> for LoadError {
+    fn from(e: BodyError) -> Self {
+        LoadError::Body(Box::new(e))
+    }
 }
 
 /// Read a file and validate it into a [`Body`] (warnings are in `Body::warnings`).

@@ -225,24 +225,36 @@ pub fn parse_bytes(text: &[u8], file: &str) -> Result<FxbFile, FxbError> {
     };
     let b1 = Block::new(1);
     let mut raw: Vec<i64> = Vec::with_capacity(7);
-    r.read_into(&mut raw, b1, 7, 7, &|| {
+    let before = (r.lines.pos, r.lines.line_no);
+    let read = r.read_into(&mut raw, b1, 7, 7, &|| {
         "the 7 header integers Nbmod Nbstat Nbnod Irot Idamp Iblo Ifile".into()
-    })?;
+    });
+    if let Err(e) = read {
+        // A header that cannot fit 8-column fields (Nbnod = 1000000000) is ambiguous;
+        // if its blank-separated reading claims more than the file holds, say that.
+        if matches!(e, FxbError::Ambiguous { .. }) {
+            (r.lines.pos, r.lines.line_no) = before;
+            if let Some((ln, line)) = r.lines.next_data() {
+                let free = super::fields::free_values::<i64>(line);
+                if let Some(h) = free
+                    .as_deref()
+                    .filter(|v| v.len() == 7)
+                    .and_then(|v| header(&r, v, ln).ok())
+                {
+                    too_large(
+                        &r,
+                        &h,
+                        ln,
+                        " (blank-separated reading; the line is also ambiguous in fixed columns)",
+                    )?;
+                }
+            }
+        }
+        return Err(e);
+    }
     let header_line = r.lines.line_no;
     let h = header(&r, &raw, header_line)?;
-    let needed = h.values_needed();
-    let available = r.lines.remaining();
-    if needed.is_none_or(|v| v > available as u128) {
-        return Err(FxbError::TooLarge {
-            at: r.at(header_line, b1),
-            claim: format!(
-                "Nbmod = {}, Nbstat = {}, Nbnod = {}",
-                h.nbmod, h.nbstat, h.nbnod
-            ),
-            needed: needed.unwrap_or(u128::MAX),
-            available,
-        });
-    }
+    too_large(&r, &h, header_line, "")?;
     let (n, nl, ns, nr) = (h.nbnod, h.nbmod, h.nbstat, h.nr());
 
     // Block 2: node IDs, 10 per line, each once.
@@ -345,6 +357,24 @@ pub fn parse_bytes(text: &[u8], file: &str) -> Result<FxbFile, FxbError> {
         m_c,
         k_c,
     })
+}
+
+/// Refuse header counts that the rest of the text cannot hold, before allocating.
+fn too_large(r: &Reader<'_>, h: &Header, line: usize, note: &str) -> Result<(), FxbError> {
+    let needed = h.values_needed();
+    let available = r.lines.remaining();
+    if needed.is_none_or(|v| v > available as u128) {
+        return Err(FxbError::TooLarge {
+            at: r.at(line, Block::new(1)),
+            claim: format!(
+                "Nbmod = {}, Nbstat = {}, Nbnod = {}{note}",
+                h.nbmod, h.nbstat, h.nbnod
+            ),
+            needed: needed.unwrap_or(u128::MAX),
+            available,
+        });
+    }
+    Ok(())
 }
 
 /// Check the seven header integers.
