@@ -1,3 +1,4 @@
 //! The `fxbody` subcommands, one file each; `main.rs` only dispatches.
 
 pub mod info;
+pub mod pack;
