@@ -9,3 +9,7 @@ pub mod instance;
 pub mod state;
 pub mod types;
 pub mod uri;
+
+/// The C header cbindgen generated for this build (build.rs). The committed
+/// `include/fxbody.h` must equal it; `tests/fmi_header.rs` checks.
+pub const GENERATED_HEADER: &str = include_str!(concat!(env!("OUT_DIR"), "/fxbody.h"));

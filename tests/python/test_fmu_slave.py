@@ -115,7 +115,6 @@ def test_corrupted_or_foreign_state_is_refused(tip, fmu_dir, capsys):
     o = Slave(other, extract(str(other)), "o").start()
     foreign = o.s.serializeFMUstate(o.s.getFMUstate())
     a.s.reset()
-    a.start_again = True
     with pytest.raises(Exception):
         a.s.deSerializeFMUstate(foreign)
     assert "FMU state belongs to GUID" in capsys.readouterr().out
@@ -151,7 +150,6 @@ def test_illegal_sequences_return_errors_and_the_process_lives(tip, capsys):
         a.set(**{f"node_{tid}__y": 1.0})  # an output
     assert f"node_{tid}.y is an output" in capsys.readouterr().out
     a.s.reset()
-    a.start_again = None
     a.s.setupExperiment(startTime=0.0)
     a.s.enterInitializationMode()
     a.s.exitInitializationMode()
