@@ -19,6 +19,8 @@ enum Command {
     Info(cli::info::InfoArgs),
     /// Pack a .fxb file into an FMI 2.0 co-simulation FMU.
     Pack(cli::pack::PackArgs),
+    /// The main job: pack the shipped cantilever, run a tip step load through the FMU's C ABI.
+    Demo(cli::demo::DemoArgs),
 }
 
 fn main() {
@@ -26,6 +28,7 @@ fn main() {
     let result = match &cli.command {
         Command::Info(args) => cli::info::run(args),
         Command::Pack(args) => cli::pack::run(args),
+        Command::Demo(args) => cli::demo::run(args),
     };
     if let Err(message) = result {
         eprintln!("fxbody: {message}");

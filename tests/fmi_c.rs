@@ -36,7 +36,14 @@ fn c_master_matches_the_rust_solver() {
     let so = unz.join("binaries/linux64/cantilever.so");
     let exe = tmp.join("driver");
     let cc = Command::new("cc")
-        .args(["-O2", "-Wall", "-Werror", "-std=c99", "-D_POSIX_C_SOURCE=200809L", "-I"])
+        .args([
+            "-O2",
+            "-Wall",
+            "-Werror",
+            "-std=c99",
+            "-D_POSIX_C_SOURCE=200809L",
+            "-I",
+        ])
         .arg(root().join("include"))
         .arg(root().join("tests/c/fmu_driver.c"))
         .arg("-o")
@@ -44,18 +51,41 @@ fn c_master_matches_the_rust_solver() {
         .arg("-ldl")
         .output()
         .expect("a C compiler `cc` on PATH");
-    assert!(cc.status.success(), "cc failed: {}", String::from_utf8_lossy(&cc.stderr));
-    let vr = |n: &str| p.table.vars.iter().find(|v| v.name == n).unwrap().vr.to_string();
+    assert!(
+        cc.status.success(),
+        "cc failed: {}",
+        String::from_utf8_lossy(&cc.stderr)
+    );
+    let vr = |n: &str| {
+        p.table
+            .vars
+            .iter()
+            .find(|v| v.name == n)
+            .unwrap()
+            .vr
+            .to_string()
+    };
     let (h, steps, force) = (2e-4, 1000, 1.0);
     let out = Command::new(&exe)
         .arg(&so)
         .arg(fxbody::fmi::host::file_uri(&unz.join("resources")))
         .arg(&p.guid)
-        .args([vr("node_121.fy"), vr("node_121.y"), steps.to_string(), h.to_string(), force.to_string()])
+        .args([
+            vr("node_121.fy"),
+            vr("node_121.y"),
+            steps.to_string(),
+            h.to_string(),
+            force.to_string(),
+        ])
         .output()
         .unwrap();
     let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(out.status.success(), "driver failed: {}{}", stdout, String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "driver failed: {}{}",
+        stdout,
+        String::from_utf8_lossy(&out.stderr)
+    );
     let y_c: f64 = stdout.trim().parse().unwrap();
     // The same scene and steps through the Rust API directly.
     let res = load_resources(&unz.join("resources")).unwrap();
@@ -70,6 +100,10 @@ fn c_master_matches_the_rust_solver() {
     let mut pos = [0.0; 3];
     s.positions(&mut pos);
     assert!(pos[1].abs() > 1e-5, "a real deflection: {}", pos[1]);
-    assert!((y_c - pos[1]).abs() <= 1e-12 * pos[1].abs(), "C {y_c} vs Rust {}", pos[1]);
+    assert!(
+        (y_c - pos[1]).abs() <= 1e-12 * pos[1].abs(),
+        "C {y_c} vs Rust {}",
+        pos[1]
+    );
     let _ = std::fs::remove_dir_all(&tmp);
 }

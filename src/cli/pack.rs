@@ -47,7 +47,9 @@ pub fn run(args: &PackArgs) -> Result<(), String> {
     for n in &p.notes {
         eprintln!("fxbody pack: {n}");
     }
-    let size = std::fs::metadata(&args.output).map(|m| m.len()).unwrap_or(0);
+    let size = std::fs::metadata(&args.output)
+        .map(|m| m.len())
+        .unwrap_or(0);
     println!(
         "{}: model {} (GUID {}), {} exposed nodes, {} variables, {:.1} MB",
         args.output.display(),

@@ -19,19 +19,55 @@ type Instantiate = unsafe extern "C" fn(
     fmi2Boolean,
 ) -> fmi2Component;
 type Free = unsafe extern "C" fn(fmi2Component);
-type Setup = unsafe extern "C" fn(fmi2Component, fmi2Boolean, fmi2Real, fmi2Real, fmi2Boolean, fmi2Real) -> fmi2Status;
+type Setup = unsafe extern "C" fn(
+    fmi2Component,
+    fmi2Boolean,
+    fmi2Real,
+    fmi2Real,
+    fmi2Boolean,
+    fmi2Real,
+) -> fmi2Status;
 type Plain = unsafe extern "C" fn(fmi2Component) -> fmi2Status;
-type GetReal = unsafe extern "C" fn(fmi2Component, *const fmi2ValueReference, usize, *mut fmi2Real) -> fmi2Status;
-type SetReal = unsafe extern "C" fn(fmi2Component, *const fmi2ValueReference, usize, *const fmi2Real) -> fmi2Status;
-type SetInteger = unsafe extern "C" fn(fmi2Component, *const fmi2ValueReference, usize, *const fmi2Integer) -> fmi2Status;
+type GetReal = unsafe extern "C" fn(
+    fmi2Component,
+    *const fmi2ValueReference,
+    usize,
+    *mut fmi2Real,
+) -> fmi2Status;
+type SetReal = unsafe extern "C" fn(
+    fmi2Component,
+    *const fmi2ValueReference,
+    usize,
+    *const fmi2Real,
+) -> fmi2Status;
+type SetInteger = unsafe extern "C" fn(
+    fmi2Component,
+    *const fmi2ValueReference,
+    usize,
+    *const fmi2Integer,
+) -> fmi2Status;
 type DoStep = unsafe extern "C" fn(fmi2Component, fmi2Real, fmi2Real, fmi2Boolean) -> fmi2Status;
 type GetState = unsafe extern "C" fn(fmi2Component, *mut fmi2FMUstate) -> fmi2Status;
 type SetState = unsafe extern "C" fn(fmi2Component, fmi2FMUstate) -> fmi2Status;
 type StateSize = unsafe extern "C" fn(fmi2Component, fmi2FMUstate, *mut usize) -> fmi2Status;
-type Serialize = unsafe extern "C" fn(fmi2Component, fmi2FMUstate, *mut fmi2Byte, usize) -> fmi2Status;
-type Deserialize = unsafe extern "C" fn(fmi2Component, *const fmi2Byte, usize, *mut fmi2FMUstate) -> fmi2Status;
-type Derivs = unsafe extern "C" fn(fmi2Component, *const fmi2ValueReference, usize, *const fmi2Integer, *const fmi2Real) -> fmi2Status;
-type OutDerivs = unsafe extern "C" fn(fmi2Component, *const fmi2ValueReference, usize, *const fmi2Integer, *mut fmi2Real) -> fmi2Status;
+type Serialize =
+    unsafe extern "C" fn(fmi2Component, fmi2FMUstate, *mut fmi2Byte, usize) -> fmi2Status;
+type Deserialize =
+    unsafe extern "C" fn(fmi2Component, *const fmi2Byte, usize, *mut fmi2FMUstate) -> fmi2Status;
+type Derivs = unsafe extern "C" fn(
+    fmi2Component,
+    *const fmi2ValueReference,
+    usize,
+    *const fmi2Integer,
+    *const fmi2Real,
+) -> fmi2Status;
+type OutDerivs = unsafe extern "C" fn(
+    fmi2Component,
+    *const fmi2ValueReference,
+    usize,
+    *const fmi2Integer,
+    *mut fmi2Real,
+) -> fmi2Status;
 
 /// The functions a host uses, resolved from the library.
 struct Fns {
@@ -70,7 +106,8 @@ fn dl_error() -> String {
 impl FmuLibrary {
     /// `dlopen` the library at `path` and resolve the functions.
     pub fn open(path: &Path) -> Result<FmuLibrary, String> {
-        let cpath = CString::new(path.as_os_str().as_encoded_bytes()).map_err(|_| "library path holds a NUL byte".to_string())?;
+        let cpath = CString::new(path.as_os_str().as_encoded_bytes())
+            .map_err(|_| "library path holds a NUL byte".to_string())?;
         // SAFETY: a valid C string; RTLD_LOCAL keeps two loaded FMUs' symbols apart.
         let handle = unsafe { libc::dlopen(cpath.as_ptr(), libc::RTLD_NOW | libc::RTLD_LOCAL) };
         if handle.is_null() {
@@ -116,7 +153,13 @@ impl FmuLibrary {
 
     /// Instantiate a co-simulation slave with debug logging `debug`. On failure the
     /// error holds what the FMU logged.
-    pub fn instantiate(&self, name: &str, guid: &str, resource_uri: &str, debug: bool) -> Result<Instance<'_>, String> {
+    pub fn instantiate(
+        &self,
+        name: &str,
+        guid: &str,
+        resource_uri: &str,
+        debug: bool,
+    ) -> Result<Instance<'_>, String> {
         let log = Box::new(Mutex::new(Vec::new()));
         let functions = fmi2CallbackFunctions {
             logger: host_logger(),
@@ -129,7 +172,15 @@ impl FmuLibrary {
         // SAFETY: valid C strings and callbacks for the call; the environment pointer
         // (the boxed log) lives as long as the instance, which owns it.
         let c = unsafe {
-            (self.f.instantiate)(n.as_ptr(), fmi2CoSimulation, g.as_ptr(), r.as_ptr(), &functions, fmi2False, c_int::from(debug))
+            (self.f.instantiate)(
+                n.as_ptr(),
+                fmi2CoSimulation,
+                g.as_ptr(),
+                r.as_ptr(),
+                &functions,
+                fmi2False,
+                c_int::from(debug),
+            )
         };
         if c.is_null() {
             let msgs = log.lock().map(|m| m.join("; ")).unwrap_or_default();
@@ -155,30 +206,65 @@ impl Drop for FmuLibrary {
 /// integer/pointer arguments in the same registers as a non-variadic call with six
 /// pointer parameters. So a six-argument function reads the message correctly there;
 /// elsewhere no logger is passed.
-extern "C" fn log_six(env: *mut c_void, _name: fmi2String, _status: fmi2Status, category: fmi2String, _fmt: fmi2String, msg: *const c_char) {
+extern "C" fn log_six(
+    env: *mut c_void,
+    _name: fmi2String,
+    _status: fmi2Status,
+    category: fmi2String,
+    _fmt: fmi2String,
+    msg: *const c_char,
+) {
     if env.is_null() {
         return;
     }
     // SAFETY: `env` is the boxed Mutex<Vec<String>> of the instance being called.
     let log = unsafe { &*env.cast::<Mutex<Vec<String>>>() };
     // SAFETY: category and message are NUL-terminated strings for the call (or NULL).
-    let (cat, text) = unsafe { (text_arg(category).unwrap_or_default(), text_arg(msg).unwrap_or_default()) };
+    let (cat, text) = unsafe {
+        (
+            text_arg(category).unwrap_or_default(),
+            text_arg(msg).unwrap_or_default(),
+        )
+    };
     if let Ok(mut l) = log.lock() {
         l.push(format!("[{cat}] {text}"));
     }
 }
 
 fn host_logger() -> fmi2CallbackLogger {
-    #[cfg(all(target_os = "linux", any(target_arch = "x86_64", target_arch = "aarch64")))]
+    #[cfg(all(
+        target_os = "linux",
+        any(target_arch = "x86_64", target_arch = "aarch64")
+    ))]
     {
-        type Six = extern "C" fn(*mut c_void, fmi2String, fmi2Status, fmi2String, fmi2String, *const c_char);
+        type Six = extern "C" fn(
+            *mut c_void,
+            fmi2String,
+            fmi2Status,
+            fmi2String,
+            fmi2String,
+            *const c_char,
+        );
         // SAFETY: see `log_six`: on these ABIs the variadic call our FMU makes passes
         // exactly the six arguments this function reads, in the same registers.
         Some(unsafe {
-            std::mem::transmute::<Six, unsafe extern "C" fn(fmi2ComponentEnvironment, fmi2String, fmi2Status, fmi2String, fmi2String, ...)>(log_six as Six)
+            std::mem::transmute::<
+                Six,
+                unsafe extern "C" fn(
+                    fmi2ComponentEnvironment,
+                    fmi2String,
+                    fmi2Status,
+                    fmi2String,
+                    fmi2String,
+                    ...
+                ),
+            >(log_six as Six)
         })
     }
-    #[cfg(not(all(target_os = "linux", any(target_arch = "x86_64", target_arch = "aarch64"))))]
+    #[cfg(not(all(
+        target_os = "linux",
+        any(target_arch = "x86_64", target_arch = "aarch64")
+    )))]
     {
         None
     }
@@ -198,7 +284,11 @@ fn check(what: &str, s: fmi2Status, log: &Mutex<Vec<String>>) -> Result<(), Stri
     if s == fmi2OK {
         Ok(())
     } else {
-        let last = log.lock().ok().and_then(|l| l.last().cloned()).unwrap_or_default();
+        let last = log
+            .lock()
+            .ok()
+            .and_then(|l| l.last().cloned())
+            .unwrap_or_default();
         Err(format!("{what} returned status {s}: {last}"))
     }
 }
@@ -212,7 +302,16 @@ impl Instance<'_> {
     /// fmi2SetupExperiment.
     pub fn setup(&self, start: f64, stop: Option<f64>) -> Result<(), String> {
         // SAFETY: `c` is a live instance of `lib`.
-        let s = unsafe { (self.lib.f.setup)(self.c, fmi2False, 0.0, start, c_int::from(stop.is_some()), stop.unwrap_or(0.0)) };
+        let s = unsafe {
+            (self.lib.f.setup)(
+                self.c,
+                fmi2False,
+                0.0,
+                start,
+                c_int::from(stop.is_some()),
+                stop.unwrap_or(0.0),
+            )
+        };
         check("fmi2SetupExperiment", s, &self.log)
     }
 
@@ -245,27 +344,43 @@ impl Instance<'_> {
     pub fn set_real(&self, vrs: &[u32], vals: &[f64]) -> Result<(), String> {
         assert_eq!(vrs.len(), vals.len(), "one value per value reference");
         // SAFETY: arrays of `vrs.len()` elements for the call.
-        check("fmi2SetReal", unsafe { (self.lib.f.set_real)(self.c, vrs.as_ptr(), vrs.len(), vals.as_ptr()) }, &self.log)
+        check(
+            "fmi2SetReal",
+            unsafe { (self.lib.f.set_real)(self.c, vrs.as_ptr(), vrs.len(), vals.as_ptr()) },
+            &self.log,
+        )
     }
 
     /// fmi2SetInteger.
     pub fn set_integer(&self, vrs: &[u32], vals: &[i32]) -> Result<(), String> {
         assert_eq!(vrs.len(), vals.len(), "one value per value reference");
         // SAFETY: arrays of `vrs.len()` elements for the call.
-        check("fmi2SetInteger", unsafe { (self.lib.f.set_integer)(self.c, vrs.as_ptr(), vrs.len(), vals.as_ptr()) }, &self.log)
+        check(
+            "fmi2SetInteger",
+            unsafe { (self.lib.f.set_integer)(self.c, vrs.as_ptr(), vrs.len(), vals.as_ptr()) },
+            &self.log,
+        )
     }
 
     /// fmi2GetReal into `out` (same length as `vrs`).
     pub fn get_real(&self, vrs: &[u32], out: &mut [f64]) -> Result<(), String> {
         assert_eq!(vrs.len(), out.len(), "one slot per value reference");
         // SAFETY: arrays of `vrs.len()` elements for the call, `out` writable.
-        check("fmi2GetReal", unsafe { (self.lib.f.get_real)(self.c, vrs.as_ptr(), vrs.len(), out.as_mut_ptr()) }, &self.log)
+        check(
+            "fmi2GetReal",
+            unsafe { (self.lib.f.get_real)(self.c, vrs.as_ptr(), vrs.len(), out.as_mut_ptr()) },
+            &self.log,
+        )
     }
 
     /// fmi2DoStep.
     pub fn do_step(&self, t: f64, h: f64) -> Result<(), String> {
         // SAFETY: `c` is a live instance.
-        check("fmi2DoStep", unsafe { (self.lib.f.do_step)(self.c, t, h, fmi2True) }, &self.log)
+        check(
+            "fmi2DoStep",
+            unsafe { (self.lib.f.do_step)(self.c, t, h, fmi2True) },
+            &self.log,
+        )
     }
 
     /// fmi2SetRealInputDerivatives (order 1 for each).
@@ -274,18 +389,39 @@ impl Instance<'_> {
         // SAFETY: arrays of `vrs.len()` elements for the call.
         check(
             "fmi2SetRealInputDerivatives",
-            unsafe { (self.lib.f.set_input_derivatives)(self.c, vrs.as_ptr(), vrs.len(), orders.as_ptr(), rates.as_ptr()) },
+            unsafe {
+                (self.lib.f.set_input_derivatives)(
+                    self.c,
+                    vrs.as_ptr(),
+                    vrs.len(),
+                    orders.as_ptr(),
+                    rates.as_ptr(),
+                )
+            },
             &self.log,
         )
     }
 
     /// fmi2GetRealOutputDerivatives of one order for each of `vrs`.
-    pub fn output_derivatives(&self, vrs: &[u32], order: i32, out: &mut [f64]) -> Result<(), String> {
+    pub fn output_derivatives(
+        &self,
+        vrs: &[u32],
+        order: i32,
+        out: &mut [f64],
+    ) -> Result<(), String> {
         let orders = vec![order; vrs.len()];
         // SAFETY: arrays of `vrs.len()` elements, `out` writable.
         check(
             "fmi2GetRealOutputDerivatives",
-            unsafe { (self.lib.f.get_output_derivatives)(self.c, vrs.as_ptr(), vrs.len(), orders.as_ptr(), out.as_mut_ptr()) },
+            unsafe {
+                (self.lib.f.get_output_derivatives)(
+                    self.c,
+                    vrs.as_ptr(),
+                    vrs.len(),
+                    orders.as_ptr(),
+                    out.as_mut_ptr(),
+                )
+            },
             &self.log,
         )
     }
@@ -294,30 +430,50 @@ impl Instance<'_> {
     pub fn get_state(&self) -> Result<SavedState, String> {
         let mut s: fmi2FMUstate = std::ptr::null_mut();
         // SAFETY: `s` is a writable NULL handle.
-        check("fmi2GetFMUstate", unsafe { (self.lib.f.get_state)(self.c, &mut s) }, &self.log)?;
+        check(
+            "fmi2GetFMUstate",
+            unsafe { (self.lib.f.get_state)(self.c, &mut s) },
+            &self.log,
+        )?;
         Ok(SavedState(s))
     }
 
     /// fmi2SetFMUstate.
     pub fn set_state(&self, s: &SavedState) -> Result<(), String> {
         // SAFETY: `s` is a live state of this library.
-        check("fmi2SetFMUstate", unsafe { (self.lib.f.set_state)(self.c, s.0) }, &self.log)
+        check(
+            "fmi2SetFMUstate",
+            unsafe { (self.lib.f.set_state)(self.c, s.0) },
+            &self.log,
+        )
     }
 
     /// fmi2FreeFMUstate.
     pub fn free_state(&self, mut s: SavedState) -> Result<(), String> {
         // SAFETY: `s.0` is a live state of this library, freed once.
-        check("fmi2FreeFMUstate", unsafe { (self.lib.f.free_state)(self.c, &mut s.0) }, &self.log)
+        check(
+            "fmi2FreeFMUstate",
+            unsafe { (self.lib.f.free_state)(self.c, &mut s.0) },
+            &self.log,
+        )
     }
 
     /// fmi2SerializedFMUstateSize + fmi2SerializeFMUstate.
     pub fn serialize(&self, s: &SavedState) -> Result<Vec<u8>, String> {
         let mut n = 0usize;
         // SAFETY: `s` is live, `n` writable.
-        check("fmi2SerializedFMUstateSize", unsafe { (self.lib.f.state_size)(self.c, s.0, &mut n) }, &self.log)?;
+        check(
+            "fmi2SerializedFMUstateSize",
+            unsafe { (self.lib.f.state_size)(self.c, s.0, &mut n) },
+            &self.log,
+        )?;
         let mut buf = vec![0u8; n];
         // SAFETY: `buf` holds `n` writable bytes.
-        check("fmi2SerializeFMUstate", unsafe { (self.lib.f.serialize)(self.c, s.0, buf.as_mut_ptr().cast(), n) }, &self.log)?;
+        check(
+            "fmi2SerializeFMUstate",
+            unsafe { (self.lib.f.serialize)(self.c, s.0, buf.as_mut_ptr().cast(), n) },
+            &self.log,
+        )?;
         Ok(buf)
     }
 

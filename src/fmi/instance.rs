@@ -10,7 +10,12 @@ use super::types::*;
 use crate::fmu::model::Model;
 
 /// Log categories, in the order of `crate::fmu::xml::LOG_CATEGORIES` (a test checks).
-pub const CATEGORIES: [&CStr; 4] = [c"logStatusError", c"logStatusWarning", c"logCalls", c"logSolver"];
+pub const CATEGORIES: [&CStr; 4] = [
+    c"logStatusError",
+    c"logStatusWarning",
+    c"logCalls",
+    c"logSolver",
+];
 /// Index of logStatusError.
 pub const LOG_ERROR: usize = 0;
 /// Index of logStatusWarning.
@@ -59,7 +64,14 @@ impl Log {
         // with exactly one char* argument, so printf-style handling in the logger reads
         // exactly what we pass whatever the text holds.
         unsafe {
-            logger(self.env, self.name.as_ptr(), status, CATEGORIES[cat].as_ptr(), c"%s".as_ptr(), msg.as_ptr());
+            logger(
+                self.env,
+                self.name.as_ptr(),
+                status,
+                CATEGORIES[cat].as_ptr(),
+                c"%s".as_ptr(),
+                msg.as_ptr(),
+            );
         }
     }
 }
@@ -97,7 +109,12 @@ pub type Outcome = Result<fmi2Status, String>;
 
 /// Run an export's body on the instance behind `c`: refuse NULL, check the call is legal
 /// in the current state (`mask`), catch panics (fmi2Fatal), log errors.
-pub fn enter(c: fmi2Component, func: &str, mask: u16, body: impl FnOnce(&mut Instance) -> Outcome) -> fmi2Status {
+pub fn enter(
+    c: fmi2Component,
+    func: &str,
+    mask: u16,
+    body: impl FnOnce(&mut Instance) -> Outcome,
+) -> fmi2Status {
     if c.is_null() {
         return fmi2Error;
     }
@@ -125,7 +142,8 @@ pub fn enter(c: fmi2Component, func: &str, mask: u16, body: impl FnOnce(&mut Ins
     match result {
         Ok(Ok(status)) => status,
         Ok(Err(msg)) => {
-            inst.log.send(fmi2Error, LOG_ERROR, &format!("{func}: {msg}"));
+            inst.log
+                .send(fmi2Error, LOG_ERROR, &format!("{func}: {msg}"));
             inst.state = FmiState::Error;
             fmi2Error
         }
@@ -134,7 +152,11 @@ pub fn enter(c: fmi2Component, func: &str, mask: u16, body: impl FnOnce(&mut Ins
             inst.state = FmiState::Fatal;
             // Logging itself must not unwind out of the library.
             let _ = catch_unwind(AssertUnwindSafe(|| {
-                inst.log.send(fmi2Fatal, LOG_ERROR, &format!("{func}: internal error (panic): {what}"))
+                inst.log.send(
+                    fmi2Fatal,
+                    LOG_ERROR,
+                    &format!("{func}: internal error (panic): {what}"),
+                )
             }));
             fmi2Fatal
         }
@@ -190,7 +212,10 @@ mod tests {
     #[test]
     fn categories_match_the_description() {
         let names: Vec<&str> = CATEGORIES.iter().map(|c| c.to_str().unwrap()).collect();
-        let declared: Vec<&str> = crate::fmu::xml::LOG_CATEGORIES.iter().map(|c| c.0).collect();
+        let declared: Vec<&str> = crate::fmu::xml::LOG_CATEGORIES
+            .iter()
+            .map(|c| c.0)
+            .collect();
         assert_eq!(names, declared);
     }
 }

@@ -41,9 +41,16 @@ impl FmiState {
     /// The state with [`FmiState::code`] `c`, if it is one a saved state may hold.
     pub fn from_code(c: u8) -> Option<FmiState> {
         use FmiState::*;
-        [Instantiated, InitializationMode, StepComplete, StepFailed, StepCanceled, Terminated]
-            .into_iter()
-            .find(|s| s.code() == c)
+        [
+            Instantiated,
+            InitializationMode,
+            StepComplete,
+            StepFailed,
+            StepCanceled,
+            Terminated,
+        ]
+        .into_iter()
+        .find(|s| s.code() == c)
     }
 }
 
@@ -60,9 +67,22 @@ const fn m(states: &[FmiState]) -> u16 {
 }
 
 /// States where a running or finished simulation can be read.
-const READABLE: u16 = m(&[InitializationMode, StepComplete, StepFailed, StepCanceled, Terminated]);
+const READABLE: u16 = m(&[
+    InitializationMode,
+    StepComplete,
+    StepFailed,
+    StepCanceled,
+    Terminated,
+]);
 /// States whose full picture can be saved.
-const SAVABLE: u16 = m(&[Instantiated, InitializationMode, StepComplete, StepFailed, StepCanceled, Terminated]);
+const SAVABLE: u16 = m(&[
+    Instantiated,
+    InitializationMode,
+    StepComplete,
+    StepFailed,
+    StepCanceled,
+    Terminated,
+]);
 /// Every state but fatal.
 const NOT_FATAL: u16 = m(&[
     Instantiated,
@@ -100,13 +120,20 @@ pub const GET_DIRECTIONAL_DERIVATIVE: u16 = READABLE;
 /// fmi2SetRealInputDerivatives.
 pub const SET_REAL_INPUT_DERIVATIVES: u16 = m(&[Instantiated, InitializationMode, StepComplete]);
 /// fmi2GetRealOutputDerivatives.
-pub const GET_REAL_OUTPUT_DERIVATIVES: u16 = m(&[StepComplete, StepFailed, StepCanceled, Terminated]);
+pub const GET_REAL_OUTPUT_DERIVATIVES: u16 =
+    m(&[StepComplete, StepFailed, StepCanceled, Terminated]);
 /// fmi2DoStep.
 pub const DO_STEP: u16 = m(&[StepComplete]);
 /// fmi2CancelStep.
 pub const CANCEL_STEP: u16 = m(&[StepInProgress]);
 /// fmi2Get*Status.
-pub const GET_STATUS: u16 = m(&[StepComplete, StepInProgress, StepFailed, StepCanceled, Terminated]);
+pub const GET_STATUS: u16 = m(&[
+    StepComplete,
+    StepInProgress,
+    StepFailed,
+    StepCanceled,
+    Terminated,
+]);
 
 #[cfg(test)]
 mod tests {
@@ -115,25 +142,55 @@ mod tests {
     #[test]
     fn masks_follow_the_standard_table() {
         let allowed = |mask: u16| -> Vec<FmiState> {
-            [Instantiated, InitializationMode, StepComplete, StepInProgress, StepFailed, StepCanceled, Terminated, Error, Fatal]
-                .into_iter()
-                .filter(|s| mask & s.bit() != 0)
-                .collect()
+            [
+                Instantiated,
+                InitializationMode,
+                StepComplete,
+                StepInProgress,
+                StepFailed,
+                StepCanceled,
+                Terminated,
+                Error,
+                Fatal,
+            ]
+            .into_iter()
+            .filter(|s| mask & s.bit() != 0)
+            .collect()
         };
         assert_eq!(allowed(DO_STEP), vec![StepComplete]);
         assert_eq!(allowed(EXIT_INITIALIZATION_MODE), vec![InitializationMode]);
         assert_eq!(allowed(TERMINATE), vec![StepComplete, StepFailed]);
         // After an error: Reset, SetFMUstate, FreeInstance (free is not masked) only.
-        let after_error: Vec<u16> = [SET_DEBUG_LOGGING, SETUP_EXPERIMENT, ENTER_INITIALIZATION_MODE, EXIT_INITIALIZATION_MODE,
-            TERMINATE, GET, SET, GET_FMU_STATE, GET_DIRECTIONAL_DERIVATIVE, SET_REAL_INPUT_DERIVATIVES,
-            GET_REAL_OUTPUT_DERIVATIVES, DO_STEP, CANCEL_STEP, GET_STATUS]
-            .into_iter()
-            .filter(|mask| mask & Error.bit() != 0)
-            .collect();
+        let after_error: Vec<u16> = [
+            SET_DEBUG_LOGGING,
+            SETUP_EXPERIMENT,
+            ENTER_INITIALIZATION_MODE,
+            EXIT_INITIALIZATION_MODE,
+            TERMINATE,
+            GET,
+            SET,
+            GET_FMU_STATE,
+            GET_DIRECTIONAL_DERIVATIVE,
+            SET_REAL_INPUT_DERIVATIVES,
+            GET_REAL_OUTPUT_DERIVATIVES,
+            DO_STEP,
+            CANCEL_STEP,
+            GET_STATUS,
+        ]
+        .into_iter()
+        .filter(|mask| mask & Error.bit() != 0)
+        .collect();
         assert!(after_error.is_empty());
         assert!(RESET & Error.bit() != 0 && SET_FMU_STATE & Error.bit() != 0);
         assert!(RESET & Fatal.bit() == 0);
-        for s in [Instantiated, InitializationMode, StepComplete, StepFailed, StepCanceled, Terminated] {
+        for s in [
+            Instantiated,
+            InitializationMode,
+            StepComplete,
+            StepFailed,
+            StepCanceled,
+            Terminated,
+        ] {
             assert_eq!(FmiState::from_code(s.code()), Some(s));
         }
         assert_eq!(FmiState::from_code(Error.code()), None);

@@ -27,16 +27,22 @@ pub fn resource_path(uri: &str) -> Result<PathBuf, String> {
     } else if uri.starts_with('/') {
         uri
     } else {
-        return Err(format!("resource location '{uri}' is not a file URI (expected file:///absolute/path)"));
+        return Err(format!(
+            "resource location '{uri}' is not a file URI (expected file:///absolute/path)"
+        ));
     };
     // Query or fragment parts have no meaning for a folder.
     let path = path.split(['?', '#']).next().unwrap_or("");
     if !path.starts_with('/') {
-        return Err(format!("resource location '{uri}' does not name an absolute path"));
+        return Err(format!(
+            "resource location '{uri}' does not name an absolute path"
+        ));
     }
     let bytes = percent_decode(path).map_err(|e| format!("resource location '{uri}': {e}"))?;
     if bytes.contains(&0) {
-        return Err(format!("resource location '{uri}' decodes to a path with a NUL byte"));
+        return Err(format!(
+            "resource location '{uri}' decodes to a path with a NUL byte"
+        ));
     }
     let mut p = PathBuf::from(OsString::from_vec(bytes));
     // PathBuf ignores a trailing slash in joins already; normalise it for messages.
@@ -47,8 +53,9 @@ pub fn resource_path(uri: &str) -> Result<PathBuf, String> {
 }
 
 fn strip_prefix_ignore_case<'a>(s: &'a str, prefix: &str) -> Option<&'a str> {
-    (s.len() >= prefix.len() && s.as_bytes()[..prefix.len()].eq_ignore_ascii_case(prefix.as_bytes()))
-        .then(|| &s[prefix.len()..])
+    (s.len() >= prefix.len()
+        && s.as_bytes()[..prefix.len()].eq_ignore_ascii_case(prefix.as_bytes()))
+    .then(|| &s[prefix.len()..])
 }
 
 fn percent_decode(s: &str) -> Result<Vec<u8>, String> {
@@ -58,9 +65,16 @@ fn percent_decode(s: &str) -> Result<Vec<u8>, String> {
     while k < b.len() {
         if b[k] == b'%' {
             let hex = |c: u8| (c as char).to_digit(16);
-            match (b.get(k + 1).copied().and_then(hex), b.get(k + 2).copied().and_then(hex)) {
+            match (
+                b.get(k + 1).copied().and_then(hex),
+                b.get(k + 2).copied().and_then(hex),
+            ) {
                 (Some(h), Some(l)) => out.push((h * 16 + l) as u8),
-                _ => return Err(format!("bad percent escape at byte {k}: expected %XX with two hex digits")),
+                _ => {
+                    return Err(format!(
+                        "bad percent escape at byte {k}: expected %XX with two hex digits"
+                    ));
+                }
             }
             k += 3;
         } else {
@@ -89,16 +103,39 @@ mod tests {
             assert_eq!(resource_path(uri).unwrap(), want, "{uri}");
         }
         // UTF-8 percent-encoded: e-acute is C3 A9.
-        assert_eq!(resource_path("file:///a/caf%C3%A9").unwrap(), PathBuf::from("/a/café"));
+        assert_eq!(
+            resource_path("file:///a/caf%C3%A9").unwrap(),
+            PathBuf::from("/a/café")
+        );
     }
 
     #[test]
     fn bad_uris_are_refused_with_a_reason() {
-        assert!(resource_path("file://server/share").unwrap_err().contains("not local"));
-        assert!(resource_path("file:///a%2").unwrap_err().contains("percent"));
-        assert!(resource_path("file:///a%zz").unwrap_err().contains("percent"));
-        assert!(resource_path("http://x/y").unwrap_err().contains("not a file URI"));
-        assert!(resource_path("file:relative/x").unwrap_err().contains("absolute"));
+        assert!(
+            resource_path("file://server/share")
+                .unwrap_err()
+                .contains("not local")
+        );
+        assert!(
+            resource_path("file:///a%2")
+                .unwrap_err()
+                .contains("percent")
+        );
+        assert!(
+            resource_path("file:///a%zz")
+                .unwrap_err()
+                .contains("percent")
+        );
+        assert!(
+            resource_path("http://x/y")
+                .unwrap_err()
+                .contains("not a file URI")
+        );
+        assert!(
+            resource_path("file:relative/x")
+                .unwrap_err()
+                .contains("absolute")
+        );
         assert!(resource_path("file:///a%00b").unwrap_err().contains("NUL"));
     }
 }

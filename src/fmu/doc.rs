@@ -10,7 +10,10 @@ use crate::body::stable_step;
 use crate::scene::Scene;
 
 fn esc(s: &str) -> String {
-    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
 }
 
 /// The HTML page.
@@ -37,14 +40,24 @@ pub fn index_html(scene: &Scene, table: &VarTable, opts: &SceneOptions, guid: &s
         b.nl(),
         b.nbstat,
         if b.irot { "yes" } else { "no" },
-        b.damping.map_or("none".to_string(), |d| format!("Rayleigh alpha {} 1/s, beta {} s", d.alpha, d.beta)),
+        b.damping.map_or("none".to_string(), |d| format!(
+            "Rayleigh alpha {} 1/s, beta {} s",
+            d.alpha, d.beta
+        )),
         b.freq_file,
         stable_step(b.freq_file, beta),
         stop,
         step,
-        table.methods().iter().map(|&m| method_name(m)).collect::<Vec<_>>().join(", "),
+        table
+            .methods()
+            .iter()
+            .map(|&m| method_name(m))
+            .collect::<Vec<_>>()
+            .join(", "),
         method_name(table.default_method),
-        opts.units.map_or("none declared (the file's own consistent system)", |u| u.name()),
+        opts.units
+            .map_or("none declared (the file's own consistent system)", |u| u
+                .name()),
     );
     h.push_str("<h2>Eigenfrequencies of the local modes (Hz)</h2>\n<p>");
     let f: Vec<String> = b.frequencies_hz.iter().map(|f| format!("{f:.6}")).collect();

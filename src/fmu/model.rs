@@ -35,6 +35,10 @@ pub struct Model {
     solver: Option<Box<dyn Solver>>,
     /// Parameters changed since the solver was built.
     dirty: bool,
+    /// Loads changed since they were last passed to the solver.
+    loads_dirty: bool,
+    /// The last step ran with nonzero input rates (the solver must be told they ended).
+    rates_applied: bool,
     pos: Vec<f64>,
     vel: Vec<f64>,
     acc: Vec<f64>,
@@ -66,6 +70,8 @@ impl Model {
             rates: vec![0.0; 6 * m],
             solver: None,
             dirty: true,
+            loads_dirty: true,
+            rates_applied: false,
             pos: vec![0.0; 3 * m],
             vel: vec![0.0; 3 * m],
             acc: vec![0.0; 3 * m],
@@ -97,7 +103,7 @@ impl Model {
             return Err(format!("startTime must be finite, got {start}"));
         }
         if let Some(s) = stop
-            && !(s >= start)
+            && (s.is_nan() || s < start)
         {
             return Err(format!("stopTime {s} is before startTime {start}"));
         }
@@ -117,6 +123,8 @@ impl Model {
             .map_err(|e| format!("cannot build the {} solver: {e}", method_name(self.method)))?;
         self.solver = Some(s);
         self.dirty = false;
+        self.loads_dirty = true;
+        self.rates_applied = true;
         Ok(Some(format!(
             "built the {} solver: {} local modes, {} exposed nodes, rho_inf {}",
             method_name(self.method),
@@ -127,18 +135,25 @@ impl Model {
     }
 
     fn var(&self, vr: u32) -> Result<&super::vars::Variable, String> {
-        self.table
-            .get(vr)
-            .ok_or_else(|| format!("unknown value reference {vr} (this FMU has 0..{})", self.table.vars.len()))
+        self.table.get(vr).ok_or_else(|| {
+            format!(
+                "unknown value reference {vr} (this FMU has 0..{})",
+                self.table.vars.len()
+            )
+        })
     }
 
     /// Set a Real variable.
     pub fn set_real(&mut self, vr: u32, v: f64, phase: Phase) -> Result<(), String> {
-        let var = self.var(vr)?.clone();
+        // No clone of the variable: this runs on every fmi2SetReal and must not allocate.
+        let var = self.var(vr)?;
         if var.is_integer() {
-            return Err(format!("{} (vr {vr}) is an Enumeration: set it with fmi2SetInteger", var.name));
+            return Err(format!(
+                "{} (vr {vr}) is an Enumeration: set it with fmi2SetInteger",
+                var.name
+            ));
         }
-        self.check_settable(&var, phase)?;
+        check_settable(var, phase)?;
         if !v.is_finite() {
             return Err(format!("{}: value must be finite, got {v}", var.name));
         }
@@ -163,7 +178,11 @@ impl Model {
                 self.dirty = true;
             }
             Kind::Load { node, comp } => {
-                self.loads[6 * node + comp] = v;
+                let slot = &mut self.loads[6 * node + comp];
+                if slot.to_bits() != v.to_bits() {
+                    *slot = v;
+                    self.loads_dirty = true;
+                }
             }
             _ => unreachable!("check_settable refuses outputs"),
         }
@@ -172,11 +191,14 @@ impl Model {
 
     /// Set the Integer (Enumeration) variable `method`.
     pub fn set_integer(&mut self, vr: u32, v: i32, phase: Phase) -> Result<(), String> {
-        let var = self.var(vr)?.clone();
+        let var = self.var(vr)?;
         if !var.is_integer() {
-            return Err(format!("{} (vr {vr}) is a Real: set it with fmi2SetReal", var.name));
+            return Err(format!(
+                "{} (vr {vr}) is a Real: set it with fmi2SetReal",
+                var.name
+            ));
         }
-        self.check_settable(&var, phase)?;
+        check_settable(var, phase)?;
         let Some(m) = method_from_value(v).filter(|m| self.table.methods().contains(m)) else {
             let offered: Vec<String> = self
                 .table
@@ -184,7 +206,10 @@ impl Model {
                 .iter()
                 .map(|&m| format!("{}={}", method_name(m), m as i32))
                 .collect();
-            return Err(format!("method: {v} is not offered for this body (offered: {})", offered.join(", ")));
+            return Err(format!(
+                "method: {v} is not offered for this body (offered: {})",
+                offered.join(", ")
+            ));
         };
         if m != self.method {
             self.method = m;
@@ -193,34 +218,35 @@ impl Model {
         Ok(())
     }
 
-    fn check_settable(&self, var: &super::vars::Variable, phase: Phase) -> Result<(), String> {
-        match (var.causality, phase) {
-            (Causality::Output, _) => Err(format!("{} is an output: it cannot be set", var.name)),
-            (Causality::Parameter, Phase::Running) => Err(format!(
-                "{} is a fixed parameter: set it before fmi2ExitInitializationMode",
-                var.name
-            )),
-            _ => Ok(()),
-        }
-    }
-
     /// Get Real values for `vrs` into `out` (same length). Needs a solver.
     pub fn get_reals(&mut self, vrs: &[u32], out: &mut [f64]) -> Result<(), String> {
-        if let Some(msg) = self.ensure_solver()? {
-            let _ = msg;
-        }
+        self.ensure_solver()?;
         let Some(s) = self.solver.as_ref() else {
             return Err("no solver".into());
         };
-        s.positions(&mut self.pos);
-        s.velocities(&mut self.vel);
+        // Only what is asked for: a master polling one position pays for positions only.
+        let wants = |f: fn(&Kind) -> bool| {
+            vrs.iter()
+                .any(|&r| self.table.get(r).is_some_and(|v| f(&v.kind)))
+        };
+        if wants(|k| matches!(k, Kind::Position { .. })) {
+            s.positions(&mut self.pos);
+        }
+        if wants(|k| matches!(k, Kind::Velocity { .. })) {
+            s.velocities(&mut self.vel);
+        }
         for (&vr, o) in vrs.iter().zip(out.iter_mut()) {
             let Some(var) = self.table.get(vr) else {
-                return Err(format!("unknown value reference {vr} (this FMU has 0..{})", self.table.vars.len()));
+                return Err(format!(
+                    "unknown value reference {vr} (this FMU has 0..{})",
+                    self.table.vars.len()
+                ));
             };
             *o = match var.kind {
                 Kind::Method => {
-                    return Err(format!("method (vr {vr}) is an Enumeration: get it with fmi2GetInteger"));
+                    return Err(format!(
+                        "method (vr {vr}) is an Enumeration: get it with fmi2GetInteger"
+                    ));
                 }
                 Kind::RhoInf => self.opts.rho_inf,
                 Kind::Gravity(c) => self.scene.gravity[c],
@@ -242,7 +268,10 @@ impl Model {
     pub fn get_integer(&self, vr: u32) -> Result<i32, String> {
         let var = self.var(vr)?;
         if !var.is_integer() {
-            return Err(format!("{} (vr {vr}) is a Real: get it with fmi2GetReal", var.name));
+            return Err(format!(
+                "{} (vr {vr}) is a Real: get it with fmi2GetReal",
+                var.name
+            ));
         }
         Ok(self.method as i32)
     }
@@ -252,7 +281,10 @@ impl Model {
     pub fn set_input_rate(&mut self, vr: u32, order: i32, v: f64) -> Result<(), String> {
         let var = self.var(vr)?;
         let Kind::Load { node, comp } = var.kind else {
-            return Err(format!("{} is not an input: input derivatives apply to inputs only", var.name));
+            return Err(format!(
+                "{} is not an input: input derivatives apply to inputs only",
+                var.name
+            ));
         };
         if order != 1 {
             return Err(format!(
@@ -270,11 +302,12 @@ impl Model {
     /// Derivative of order 1 or 2 of an output (fmi2GetRealOutputDerivatives): positions
     /// give velocities and accelerations, velocities give accelerations (order 1).
     pub fn get_output_derivative(&mut self, vr: u32, order: i32) -> Result<f64, String> {
-        let var = self.var(vr)?.clone();
+        let var = self.var(vr)?;
+        let (kind, name) = (var.kind, &var.name);
         let Some(s) = self.solver.as_ref() else {
             return Err("no solver".into());
         };
-        match (var.kind, order) {
+        match (kind, order) {
             (Kind::Position { node, comp }, 1) => {
                 s.velocities(&mut self.vel);
                 Ok(self.vel[3 * node + comp])
@@ -284,16 +317,17 @@ impl Model {
                 Ok(self.acc[3 * node + comp])
             }
             _ => Err(format!(
-                "{}: no derivative of order {order} (available: node positions orders 1 and 2, node velocities order 1)",
-                var.name
+                "{name}: no derivative of order {order} (available: node positions orders 1 and 2, node velocities order 1)"
             )),
         }
     }
 
     /// One communication step from `t` to `t + h`.
     pub fn do_step(&mut self, t: f64, h: f64) -> Result<(), String> {
-        if !(h > 0.0) || !h.is_finite() {
-            return Err(format!("communicationStepSize must be finite and > 0, got {h}"));
+        if !(h.is_finite() && h > 0.0) {
+            return Err(format!(
+                "communicationStepSize must be finite and > 0, got {h}"
+            ));
         }
         let tol = TIME_TOL * t.abs().max(h).max(1e-300);
         if (t - self.time).abs() > tol.max(1e-12 * self.time.abs()) {
@@ -311,10 +345,22 @@ impl Model {
         let Some(s) = self.solver.as_mut() else {
             return Err("no solver".into());
         };
-        s.set_loads(&self.loads).map_err(|e| e.to_string())?;
-        s.set_load_rates(&self.rates).map_err(|e| e.to_string())?;
-        s.step(h).map_err(|e| format!("step from t = {t} with h = {h} failed: {e}"))?;
-        self.rates.iter_mut().for_each(|r| *r = 0.0);
+        // Pass loads and rates only when they changed: both make the solver re-project
+        // the loads onto the modes.
+        let rates_on = self.rates.iter().any(|&r| r != 0.0);
+        if self.loads_dirty || self.rates_applied || rates_on {
+            s.set_loads(&self.loads).map_err(|e| e.to_string())?;
+        }
+        if rates_on || self.rates_applied {
+            s.set_load_rates(&self.rates).map_err(|e| e.to_string())?;
+        }
+        self.loads_dirty = false;
+        self.rates_applied = rates_on;
+        s.step(h)
+            .map_err(|e| format!("step from t = {t} with h = {h} failed: {e}"))?;
+        if rates_on {
+            self.rates.iter_mut().for_each(|r| *r = 0.0);
+        }
         // Adopt the master's time so that round-off does not accumulate against it.
         self.time = t + h;
         Ok(())
@@ -347,7 +393,11 @@ impl Model {
             time: self.time,
             loads: self.loads.clone(),
             rates: self.rates.clone(),
-            solver: if self.dirty { None } else { self.solver.as_ref().map(|s| s.state()) },
+            solver: if self.dirty {
+                None
+            } else {
+                self.solver.as_ref().map(|s| s.state())
+            },
         }
     }
 
@@ -381,6 +431,8 @@ impl Model {
         self.time = snap.time;
         self.loads.copy_from_slice(&snap.loads);
         self.rates.copy_from_slice(&snap.rates);
+        self.loads_dirty = true;
+        self.rates_applied = true;
         match &snap.solver {
             Some(st) => {
                 self.ensure_solver()?;
@@ -394,5 +446,18 @@ impl Model {
             }
         }
         Ok(())
+    }
+}
+
+/// Whether `var` may be set in `phase`: never an output, parameters only before the end
+/// of initialisation.
+fn check_settable(var: &super::vars::Variable, phase: Phase) -> Result<(), String> {
+    match (var.causality, phase) {
+        (Causality::Output, _) => Err(format!("{} is an output: it cannot be set", var.name)),
+        (Causality::Parameter, Phase::Running) => Err(format!(
+            "{} is a fixed parameter: set it before fmi2ExitInitializationMode",
+            var.name
+        )),
+        _ => Ok(()),
     }
 }

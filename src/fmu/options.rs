@@ -55,7 +55,13 @@ impl SceneOptions {
         let mut id: String = self
             .name
             .chars()
-            .map(|c| if c.is_ascii_alphanumeric() || c == '_' { c } else { '_' })
+            .map(|c| {
+                if c.is_ascii_alphanumeric() || c == '_' {
+                    c
+                } else {
+                    '_'
+                }
+            })
             .collect();
         if id.is_empty() || id.starts_with(|c: char| c.is_ascii_digit()) {
             id.insert(0, '_');
@@ -101,7 +107,9 @@ impl SceneOptions {
                         format!("{at}: nodes: expected integer node IDs, found '{value}' ({e})")
                     })?);
                 }
-                "units" => units = Some(UnitSystem::parse(value).map_err(|e| format!("{at}: {e}"))?),
+                "units" => {
+                    units = Some(UnitSystem::parse(value).map_err(|e| format!("{at}: {e}"))?)
+                }
                 other => return Err(format!("{at}: unknown key '{other}'")),
             }
         }

@@ -5,7 +5,10 @@ use std::path::{Path, PathBuf};
 
 use super::doc::index_html;
 use super::options::{SceneOptions, UnitSystem};
-use super::scene_io::{BODY_FILE, COORDS_FILE, OPTIONS_FILE, coords_csv, coords_from_rigid_modes, guid, make_scene, summary};
+use super::scene_io::{
+    BODY_FILE, COORDS_FILE, OPTIONS_FILE, coords_csv, coords_from_rigid_modes, guid, make_scene,
+    summary,
+};
 use super::vars::VarTable;
 use super::xml::model_description;
 use super::zip::{Entry, write};
@@ -59,10 +62,15 @@ pub struct Prepared {
 pub fn prepare(req: &PackRequest) -> Result<Prepared, PackError> {
     let e = |s: String| PackError(s);
     let body_name = req.body.display().to_string();
-    let body_bytes = std::fs::read(&req.body).map_err(|err| e(format!("{body_name}: cannot read the file: {err}")))?;
+    let body_bytes = std::fs::read(&req.body)
+        .map_err(|err| e(format!("{body_name}: cannot read the file: {err}")))?;
     let file = fxb::parse(&body_bytes, &body_name).map_err(|err| e(err.to_string()))?;
     let body = Body::from_fxb(&file, &body_name).map_err(|err| e(err.to_string()))?;
-    let mut notes: Vec<String> = body.warnings.iter().map(|w| format!("warning: {w}")).collect();
+    let mut notes: Vec<String> = body
+        .warnings
+        .iter()
+        .map(|w| format!("warning: {w}"))
+        .collect();
     let xyz = match &req.coords {
         Some(p) => coords::read_coords(p).map_err(|err| e(err.to_string()))?,
         None => match coords_from_rigid_modes(&body) {
@@ -88,16 +96,32 @@ pub fn prepare(req: &PackRequest) -> Result<Prepared, PackError> {
             )));
         }
     }
-    let missing: Vec<i64> = nodes.iter().copied().filter(|id| !map.contains_key(id)).collect();
+    let missing: Vec<i64> = nodes
+        .iter()
+        .copied()
+        .filter(|id| !map.contains_key(id))
+        .collect();
     if !missing.is_empty() {
         return Err(e(format!(
             "{}: no coordinates for node(s) {} of {body_name}",
-            req.coords.as_ref().map_or("derived coordinates".to_string(), |p| p.display().to_string()),
+            req.coords
+                .as_ref()
+                .map_or("derived coordinates".to_string(), |p| p
+                    .display()
+                    .to_string()),
             summary(&missing)
         )));
     }
-    let stem = req.body.file_stem().map_or("fxbody".to_string(), |s| s.to_string_lossy().into_owned());
-    let units = req.units.as_deref().map(UnitSystem::parse).transpose().map_err(e)?;
+    let stem = req
+        .body
+        .file_stem()
+        .map_or("fxbody".to_string(), |s| s.to_string_lossy().into_owned());
+    let units = req
+        .units
+        .as_deref()
+        .map(UnitSystem::parse)
+        .transpose()
+        .map_err(e)?;
     let options = SceneOptions {
         name: req.name.clone().unwrap_or(stem),
         nodes,
@@ -105,7 +129,11 @@ pub fn prepare(req: &PackRequest) -> Result<Prepared, PackError> {
     };
     // Only the body's own nodes, in body order: the stored file does not depend on how
     // the user's coordinate file was ordered or what else it held.
-    let stored: Vec<(i64, [f64; 3])> = body.node_ids.iter().filter_map(|id| map.get(id).map(|x| (*id, *x))).collect();
+    let stored: Vec<(i64, [f64; 3])> = body
+        .node_ids
+        .iter()
+        .filter_map(|id| map.get(id).map(|x| (*id, *x)))
+        .collect();
     let coords_text = coords_csv(&stored);
     let options_text = options.to_text();
     let guid = guid(&body_bytes, coords_text.as_bytes(), &options_text);
@@ -140,10 +168,14 @@ pub fn find_library(explicit: Option<&Path>) -> Result<PathBuf, PackError> {
         return if p.is_file() {
             Ok(p)
         } else {
-            Err(PackError(format!("FXBODY_LIB={}: no such file", p.display())))
+            Err(PackError(format!(
+                "FXBODY_LIB={}: no such file",
+                p.display()
+            )))
         };
     }
-    let exe = std::env::current_exe().map_err(|err| PackError(format!("cannot locate the running executable: {err}")))?;
+    let exe = std::env::current_exe()
+        .map_err(|err| PackError(format!("cannot locate the running executable: {err}")))?;
     let mut tried = Vec::new();
     let mut dir = exe.parent();
     for _ in 0..2 {
@@ -166,11 +198,31 @@ pub fn find_library(explicit: Option<&Path>) -> Result<PathBuf, PackError> {
 pub fn archive(p: &Prepared, lib: &[u8]) -> Result<Vec<u8>, PackError> {
     let id = p.options.model_identifier();
     let entries = vec![
-        Entry { name: "modelDescription.xml".into(), data: p.xml.clone().into_bytes(), mode: 0o644 },
-        Entry { name: format!("binaries/linux64/{id}.so"), data: lib.to_vec(), mode: 0o755 },
-        Entry { name: format!("resources/{BODY_FILE}"), data: p.body_bytes.clone(), mode: 0o644 },
-        Entry { name: format!("resources/{COORDS_FILE}"), data: p.coords_csv.clone().into_bytes(), mode: 0o644 },
-        Entry { name: format!("resources/{OPTIONS_FILE}"), data: p.options_text.clone().into_bytes(), mode: 0o644 },
+        Entry {
+            name: "modelDescription.xml".into(),
+            data: p.xml.clone().into_bytes(),
+            mode: 0o644,
+        },
+        Entry {
+            name: format!("binaries/linux64/{id}.so"),
+            data: lib.to_vec(),
+            mode: 0o755,
+        },
+        Entry {
+            name: format!("resources/{BODY_FILE}"),
+            data: p.body_bytes.clone(),
+            mode: 0o644,
+        },
+        Entry {
+            name: format!("resources/{COORDS_FILE}"),
+            data: p.coords_csv.clone().into_bytes(),
+            mode: 0o644,
+        },
+        Entry {
+            name: format!("resources/{OPTIONS_FILE}"),
+            data: p.options_text.clone().into_bytes(),
+            mode: 0o644,
+        },
         Entry {
             name: "documentation/index.html".into(),
             data: index_html(&p.scene, &p.table, &p.options, &p.guid).into_bytes(),
@@ -183,8 +235,10 @@ pub fn archive(p: &Prepared, lib: &[u8]) -> Result<Vec<u8>, PackError> {
 /// Pack `req` with the library at `lib` into `out`. Returns the prepared scene.
 pub fn pack(req: &PackRequest, lib: &Path, out: &Path) -> Result<Prepared, PackError> {
     let p = prepare(req)?;
-    let lib_bytes = std::fs::read(lib).map_err(|err| PackError(format!("{}: cannot read the library: {err}", lib.display())))?;
+    let lib_bytes = std::fs::read(lib)
+        .map_err(|err| PackError(format!("{}: cannot read the library: {err}", lib.display())))?;
     let bytes = archive(&p, &lib_bytes)?;
-    std::fs::write(out, bytes).map_err(|err| PackError(format!("{}: cannot write the FMU: {err}", out.display())))?;
+    std::fs::write(out, bytes)
+        .map_err(|err| PackError(format!("{}: cannot write the FMU: {err}", out.display())))?;
     Ok(p)
 }

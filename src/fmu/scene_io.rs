@@ -34,7 +34,12 @@ pub fn guid(body: &[u8], coords_csv: &[u8], options: &str) -> String {
 
 /// The scene for `body`: exposed nodes from `opts.nodes`, their coordinates from
 /// `xyz`. Errors name the unknown node or the node without coordinates.
-pub fn make_scene(body: Body, xyz: &HashMap<i64, [f64; 3]>, opts: &SceneOptions, body_name: &str) -> Result<Scene, String> {
+pub fn make_scene(
+    body: Body,
+    xyz: &HashMap<i64, [f64; 3]>,
+    opts: &SceneOptions,
+    body_name: &str,
+) -> Result<Scene, String> {
     let mut nodes = Vec::with_capacity(opts.nodes.len());
     let mut x0 = Vec::with_capacity(opts.nodes.len());
     for &id in &opts.nodes {
@@ -48,7 +53,9 @@ pub fn make_scene(body: Body, xyz: &HashMap<i64, [f64; 3]>, opts: &SceneOptions,
             return Err(format!("node {id} is listed twice"));
         }
         let Some(&x) = xyz.get(&id) else {
-            return Err(format!("no coordinates for node {id}: the coordinate file does not list it"));
+            return Err(format!(
+                "no coordinates for node {id}: the coordinate file does not list it"
+            ));
         };
         nodes.push(k);
         x0.push(x);
@@ -62,12 +69,23 @@ pub fn make_scene(body: Body, xyz: &HashMap<i64, [f64; 3]>, opts: &SceneOptions,
 /// A short list of IDs for messages: all when few, else the first and last ones.
 pub fn summary(ids: &[i64]) -> String {
     if ids.len() <= 12 {
-        ids.iter().map(|i| i.to_string()).collect::<Vec<_>>().join(", ")
+        ids.iter()
+            .map(|i| i.to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
     } else {
         format!(
             "{}, ..., {} ({} nodes)",
-            ids[..5].iter().map(|i| i.to_string()).collect::<Vec<_>>().join(", "),
-            ids[ids.len() - 3..].iter().map(|i| i.to_string()).collect::<Vec<_>>().join(", "),
+            ids[..5]
+                .iter()
+                .map(|i| i.to_string())
+                .collect::<Vec<_>>()
+                .join(", "),
+            ids[ids.len() - 3..]
+                .iter()
+                .map(|i| i.to_string())
+                .collect::<Vec<_>>()
+                .join(", "),
             ids.len()
         )
     }
@@ -129,7 +147,8 @@ pub fn load_resources(dir: &Path) -> Result<Resources, String> {
     let options_text = String::from_utf8(options_bytes)
         .map_err(|_| format!("{}: not UTF-8 text", dir.join(OPTIONS_FILE).display()))?;
     let body_path = dir.join(BODY_FILE).display().to_string();
-    let options = SceneOptions::parse(&options_text, &dir.join(OPTIONS_FILE).display().to_string())?;
+    let options =
+        SceneOptions::parse(&options_text, &dir.join(OPTIONS_FILE).display().to_string())?;
     let file = fxb::parse(&body_bytes, &body_path).map_err(|e| e.to_string())?;
     let body = Body::from_fxb(&file, &body_path).map_err(|e| e.to_string())?;
     let xyz = coords::parse_csv(&coords_bytes, &dir.join(COORDS_FILE).display().to_string())

@@ -89,7 +89,9 @@ impl Reader<'_> {
     fn f64s(&mut self) -> Result<Vec<f64>, String> {
         let n = self.u64()? as usize;
         if n > self.b.len() / 8 {
-            return Err(format!("serialized state: array length {n} exceeds the buffer"));
+            return Err(format!(
+                "serialized state: array length {n} exceeds the buffer"
+            ));
         }
         (0..n).map(|_| self.f64()).collect()
     }
@@ -105,7 +107,11 @@ impl Snapshot {
         p.u32(u32::from(self.phase));
         p.u32(self.method as u32);
         p.f64(self.rho_inf);
-        self.gravity.iter().chain(&self.v0).chain(&self.w0).for_each(|&x| p.f64(x));
+        self.gravity
+            .iter()
+            .chain(&self.v0)
+            .chain(&self.w0)
+            .for_each(|&x| p.f64(x));
         p.f64(self.start_time);
         p.u32(u32::from(self.stop_time.is_some()));
         p.f64(self.stop_time.unwrap_or(0.0));
@@ -142,7 +148,9 @@ impl Snapshot {
         let mut r = Reader { b: body, p: 8 };
         let version = r.u32()?;
         if version != VERSION {
-            return Err(format!("FMU state format version {version}, this library reads {VERSION}"));
+            return Err(format!(
+                "FMU state format version {version}, this library reads {VERSION}"
+            ));
         }
         let glen = r.u32()? as usize;
         let g = r.take(glen)?;
@@ -183,7 +191,10 @@ impl Snapshot {
                     3 => Method::Exact,
                     _ => return Err(format!("FMU state: unknown solver method {m}")),
                 };
-                Some(State { method, data: r.f64s()? })
+                Some(State {
+                    method,
+                    data: r.f64s()?,
+                })
             }
         };
         if r.p != body.len() {
@@ -223,7 +234,10 @@ mod tests {
             time: 0.125,
             loads: vec![1.0, -2.5, f64::MIN_POSITIVE],
             rates: vec![0.0, 1e300, -0.0],
-            solver: Some(State { method: Method::Exact, data: vec![1.0 / 3.0, -7.0] }),
+            solver: Some(State {
+                method: Method::Exact,
+                data: vec![1.0 / 3.0, -7.0],
+            }),
         }
     }
 
@@ -239,12 +253,24 @@ mod tests {
     #[test]
     fn foreign_or_damaged_bytes_are_refused() {
         let b = sample().to_bytes("{g}");
-        assert!(Snapshot::from_bytes(&b, "{h}").unwrap_err().contains("GUID"));
+        assert!(
+            Snapshot::from_bytes(&b, "{h}")
+                .unwrap_err()
+                .contains("GUID")
+        );
         let mut c = b.clone();
         let mid = c.len() / 2;
         c[mid] ^= 1;
-        assert!(Snapshot::from_bytes(&c, "{g}").unwrap_err().contains("checksum"));
+        assert!(
+            Snapshot::from_bytes(&c, "{g}")
+                .unwrap_err()
+                .contains("checksum")
+        );
         assert!(Snapshot::from_bytes(&b[..b.len() - 3], "{g}").is_err());
-        assert!(Snapshot::from_bytes(b"hello world, not a state at all", "{g}").unwrap_err().contains("magic"));
+        assert!(
+            Snapshot::from_bytes(b"hello world, not a state at all", "{g}")
+                .unwrap_err()
+                .contains("magic")
+        );
     }
 }

@@ -128,7 +128,11 @@ impl VarTable {
     pub fn new(scene: &Scene) -> VarTable {
         let body = &scene.body;
         let free = !body.iblo;
-        let default_method = if free { Method::Implicit } else { Method::Exact };
+        let default_method = if free {
+            Method::Implicit
+        } else {
+            Method::Exact
+        };
         let mut vars = Vec::new();
         let mut push = |name: String, causality, start, kind, quantity, description: String| {
             let vr = vars.len() as u32;
@@ -165,9 +169,19 @@ impl VarTable {
         );
         if free {
             for (what, quantity, desc, mk) in [
-                ("gravity", Quantity::Acceleration, "Gravity acceleration", Kind::Gravity as fn(usize) -> Kind),
+                (
+                    "gravity",
+                    Quantity::Acceleration,
+                    "Gravity acceleration",
+                    Kind::Gravity as fn(usize) -> Kind,
+                ),
                 ("v0", Quantity::Velocity, "Initial body velocity", Kind::V0),
-                ("w0", Quantity::AngularVelocity, "Initial body angular velocity", Kind::W0),
+                (
+                    "w0",
+                    Quantity::AngularVelocity,
+                    "Initial body angular velocity",
+                    Kind::W0,
+                ),
             ] {
                 for (c, axis) in AXES.iter().enumerate() {
                     push(
@@ -249,7 +263,7 @@ impl VarTable {
                     format!("Frame origin L0, global {axis}"),
                 );
             }
-            for r in 0..3 {
+            for (r, row_axis) in AXES.iter().enumerate() {
                 for c in 0..3 {
                     push(
                         format!("frame.P{}{}", r + 1, c + 1),
@@ -257,7 +271,13 @@ impl VarTable {
                         None,
                         Kind::FrameP(3 * r + c),
                         Quantity::None,
-                        format!("Frame matrix P({}, {}): global {} component of local axis {}", r + 1, c + 1, AXES[r], c + 1),
+                        format!(
+                            "Frame matrix P({}, {}): global {} component of local axis {}",
+                            r + 1,
+                            c + 1,
+                            row_axis,
+                            c + 1
+                        ),
                     );
                 }
             }

@@ -11,7 +11,10 @@ use crate::scene::Scene;
 
 /// Log categories the FMU declares, with descriptions; the FMI layer uses the same list.
 pub const LOG_CATEGORIES: [(&str, &str); 4] = [
-    ("logStatusError", "Errors: illegal calls, bad arguments, failed steps (always on)"),
+    (
+        "logStatusError",
+        "Errors: illegal calls, bad arguments, failed steps (always on)",
+    ),
     ("logStatusWarning", "Warnings (always on)"),
     ("logCalls", "Each FMI call with its arguments"),
     ("logSolver", "Solver set-up: method, modes, step sizes"),
@@ -60,7 +63,10 @@ pub fn default_experiment(scene: &Scene) -> (f64, f64) {
         .copied()
         .find(|&f| f > 1e-6);
     match f1 {
-        Some(f1) => (nice(5.0 / f1, true), nice((1.0 / (20.0 * f1)).min(1e-3), false)),
+        Some(f1) => (
+            nice(5.0 / f1, true),
+            nice((1.0 / (20.0 * f1)).min(1e-3), false),
+        ),
         None => (1.0, 1e-3),
     }
 }
@@ -72,9 +78,18 @@ fn nice(v: f64, up: bool) -> f64 {
     let m = v / base;
     let steps = [1.0, 2.0, 5.0, 10.0];
     let pick = if up {
-        steps.iter().copied().find(|&s| s >= m * (1.0 - 1e-12)).unwrap_or(10.0)
+        steps
+            .iter()
+            .copied()
+            .find(|&s| s >= m * (1.0 - 1e-12))
+            .unwrap_or(10.0)
     } else {
-        steps.iter().rev().copied().find(|&s| s <= m * (1.0 + 1e-12)).unwrap_or(1.0)
+        steps
+            .iter()
+            .rev()
+            .copied()
+            .find(|&s| s <= m * (1.0 + 1e-12))
+            .unwrap_or(1.0)
     };
     // Format through text so that 0.001 is exactly the double nearest 1e-3.
     format!("{pick}e{e}").parse().unwrap_or(v)
@@ -103,7 +118,12 @@ fn unit(q: Quantity, u: UnitSystem) -> Option<(&'static str, [i32; 3], f64)> {
 }
 
 /// The complete modelDescription.xml text.
-pub fn model_description(scene: &Scene, table: &VarTable, opts: &SceneOptions, guid: &str) -> String {
+pub fn model_description(
+    scene: &Scene,
+    table: &VarTable,
+    opts: &SceneOptions,
+    guid: &str,
+) -> String {
     let mut x = String::new();
     let body = &scene.body;
     let kind = if table.free { "free" } else { "blocked" };
@@ -164,7 +184,9 @@ pub fn model_description(scene: &Scene, table: &VarTable, opts: &SceneOptions, g
     x.push_str("  <TypeDefinitions>\n    <SimpleType name=\"Method\">\n      <Enumeration>\n");
     for &m in table.methods() {
         let what = match m {
-            crate::solver::Method::Explicit => "Radioss central difference, sub-cycled at 0.9 of the stable step",
+            crate::solver::Method::Explicit => {
+                "Radioss central difference, sub-cycled at 0.9 of the stable step"
+            }
             crate::solver::Method::Implicit => "generalised-alpha (Chung-Hulbert), any step",
             crate::solver::Method::Exact => "exact modal stepping (blocked bodies)",
         };
@@ -179,7 +201,11 @@ pub fn model_description(scene: &Scene, table: &VarTable, opts: &SceneOptions, g
     x.push_str("      </Enumeration>\n    </SimpleType>\n  </TypeDefinitions>\n");
     x.push_str("  <LogCategories>\n");
     for (name, desc) in LOG_CATEGORIES {
-        let _ = writeln!(x, "    <Category name=\"{name}\" description=\"{}\"/>", escape(desc));
+        let _ = writeln!(
+            x,
+            "    <Category name=\"{name}\" description=\"{}\"/>",
+            escape(desc)
+        );
     }
     x.push_str("  </LogCategories>\n");
     let (stop, step) = default_experiment(scene);
@@ -258,7 +284,10 @@ mod tests {
 
     #[test]
     fn escape_covers_markup_and_quotes() {
-        assert_eq!(escape("a<b & \"c\" 'd'>\n"), "a&lt;b &amp; &quot;c&quot; &apos;d&apos;&gt;&#10;");
+        assert_eq!(
+            escape("a<b & \"c\" 'd'>\n"),
+            "a&lt;b &amp; &quot;c&quot; &apos;d&apos;&gt;&#10;"
+        );
     }
 
     #[test]

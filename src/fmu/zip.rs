@@ -20,12 +20,14 @@ pub struct Entry {
 pub fn write(entries: &[Entry]) -> Result<Vec<u8>, String> {
     let mut out = Vec::new();
     let mut central = Vec::new();
-    const DOS_DATE: u16 = (0 << 9) | (1 << 5) | 1; // 1980-01-01
+    // 1980-01-01: year offset 0 (bits 9..16), month 1 (bits 5..9), day 1.
+    const DOS_DATE: u16 = (1 << 5) | 1;
     const DOS_TIME: u16 = 0;
     for e in entries {
         let size = u32::try_from(e.data.len())
             .map_err(|_| format!("zip: {} is larger than 4 GiB", e.name))?;
-        let offset = u32::try_from(out.len()).map_err(|_| "zip: archive larger than 4 GiB".to_string())?;
+        let offset =
+            u32::try_from(out.len()).map_err(|_| "zip: archive larger than 4 GiB".to_string())?;
         let name = e.name.as_bytes();
         let crc = crc32(&e.data);
         // Local file header.
@@ -59,7 +61,8 @@ pub fn write(entries: &[Entry]) -> Result<Vec<u8>, String> {
         central.extend_from_slice(&offset.to_le_bytes());
         central.extend_from_slice(name);
     }
-    let cd_offset = u32::try_from(out.len()).map_err(|_| "zip: archive larger than 4 GiB".to_string())?;
+    let cd_offset =
+        u32::try_from(out.len()).map_err(|_| "zip: archive larger than 4 GiB".to_string())?;
     let count = u16::try_from(entries.len()).map_err(|_| "zip: too many entries".to_string())?;
     out.extend_from_slice(&central);
     out.extend_from_slice(&0x0605_4b50u32.to_le_bytes());
@@ -77,7 +80,10 @@ pub fn write(entries: &[Entry]) -> Result<Vec<u8>, String> {
 /// `demo` to unpack an FMU without a zip crate.
 pub fn read(bytes: &[u8]) -> Result<Vec<(String, Vec<u8>)>, String> {
     let u16_at = |p: usize| -> Result<u16, String> {
-        bytes.get(p..p + 2).map(|b| u16::from_le_bytes([b[0], b[1]])).ok_or("zip: truncated".to_string())
+        bytes
+            .get(p..p + 2)
+            .map(|b| u16::from_le_bytes([b[0], b[1]]))
+            .ok_or("zip: truncated".to_string())
     };
     let u32_at = |p: usize| -> Result<u32, String> {
         bytes
@@ -94,11 +100,17 @@ pub fn read(bytes: &[u8]) -> Result<Vec<(String, Vec<u8>)>, String> {
         let nlen = u16_at(p + 26)? as usize;
         let xlen = u16_at(p + 28)? as usize;
         if method != 0 {
-            return Err(format!("zip: member at offset {p} is compressed (method {method}); only stored members are read"));
+            return Err(format!(
+                "zip: member at offset {p} is compressed (method {method}); only stored members are read"
+            ));
         }
-        let name = bytes.get(p + 30..p + 30 + nlen).ok_or("zip: truncated name")?;
+        let name = bytes
+            .get(p + 30..p + 30 + nlen)
+            .ok_or("zip: truncated name")?;
         let start = p + 30 + nlen + xlen;
-        let data = bytes.get(start..start + size).ok_or("zip: truncated data")?;
+        let data = bytes
+            .get(start..start + size)
+            .ok_or("zip: truncated data")?;
         let name = String::from_utf8_lossy(name).into_owned();
         if crc32(data) != crc {
             return Err(format!("zip: CRC mismatch in {name}"));
@@ -116,8 +128,16 @@ mod tests {
     #[test]
     fn archive_round_trips_and_is_deterministic() {
         let entries = vec![
-            Entry { name: "a.txt".into(), data: b"hello".to_vec(), mode: 0o644 },
-            Entry { name: "d/b.bin".into(), data: vec![0, 1, 2, 255], mode: 0o755 },
+            Entry {
+                name: "a.txt".into(),
+                data: b"hello".to_vec(),
+                mode: 0o644,
+            },
+            Entry {
+                name: "d/b.bin".into(),
+                data: vec![0, 1, 2, 255],
+                mode: 0o755,
+            },
         ];
         let z = write(&entries).unwrap();
         assert_eq!(z, write(&entries).unwrap());
