@@ -5,7 +5,8 @@
 //! obeys `y'' + d y' + w^2 y = S^T F_L` with `d = alpha + beta w^2 = 2 zeta w`: Rayleigh
 //! damping stays modal. Each mode is advanced exactly over a step for a load that is
 //! held, or varies linearly when rates are set, so the only error left is the load model
-//! between samples. The transition coefficients are computed once per distinct step size.
+//! between samples. The transition coefficients are computed once per distinct step size;
+//! two sizes are kept, so a constant step with an odd last step does not recompute them.
 //!
 //! State layout (`State::data`): time, then the load part (`t_set`, 6m loads, 6m rates),
 //! then the modal amplitudes y (nL) and modal velocities y' (nL).
@@ -30,8 +31,9 @@ pub struct Exact {
     yd: DVector<f64>,
     ya: DVector<f64>,
     q: DVector<f64>,
-    coef: Vec<[f64; 8]>,
-    coef_h: f64,
+    coef: [Vec<[f64; 8]>; 2],
+    coef_h: [f64; 2],
+    next_slot: usize,
 }
 
 impl Exact {
@@ -41,10 +43,17 @@ impl Exact {
         let nl = body.nl();
         let inv_sqrt = body.m_l.map(|m| 1.0 / m.sqrt());
         let scaled = DMatrix::from_fn(nl, nl, |i, j| body.k_l[(i, j)] * inv_sqrt[i] * inv_sqrt[j]);
-        let eig = SymmetricEigen::new(scaled);
-        let basis = DMatrix::from_fn(nl, nl, |i, j| inv_sqrt[i] * eig.eigenvectors[(i, j)]);
+        // nalgebra refuses an empty matrix: a body without local modes has nothing to
+        // diagonalise.
+        let (values, vectors) = if nl == 0 {
+            (DVector::zeros(0), DMatrix::zeros(0, 0))
+        } else {
+            let eig = SymmetricEigen::new(scaled);
+            (eig.eigenvalues, eig.eigenvectors)
+        };
+        let basis = DMatrix::from_fn(nl, nl, |i, j| inv_sqrt[i] * vectors[(i, j)]);
         let (a, b) = body.damping.map_or((0.0, 0.0), |r| (r.alpha, r.beta));
-        let omega: Vec<f64> = eig.eigenvalues.iter().map(|&l| l.max(0.0).sqrt()).collect();
+        let omega: Vec<f64> = values.iter().map(|&l| l.max(0.0).sqrt()).collect();
         let damp = omega.iter().map(|&w| a + b * w * w).collect();
         let io = Exposed::new(scene, &basis)?;
         Ok(Exact {
@@ -57,8 +66,9 @@ impl Exact {
             yd: DVector::zeros(nl),
             ya: DVector::zeros(nl),
             q: DVector::zeros(nl),
-            coef: vec![[0.0; 8]; nl],
-            coef_h: f64::NAN,
+            coef: [vec![[0.0; 8]; nl], vec![[0.0; 8]; nl]],
+            coef_h: [f64::NAN; 2],
+            next_slot: 0,
         })
     }
 
@@ -105,15 +115,21 @@ impl Solver for Exact {
         if !(h.is_finite() && h > 0.0) {
             return Err(SolverError::BadStep(h));
         }
-        if h != self.coef_h {
-            for (i, c) in self.coef.iter_mut().enumerate() {
-                *c = mode_coefficients(self.omega[i], self.damp[i], h);
+        let slot = match self.coef_h.iter().position(|&c| c == h) {
+            Some(slot) => slot,
+            None => {
+                let slot = self.next_slot;
+                self.next_slot = 1 - slot;
+                for (i, c) in self.coef[slot].iter_mut().enumerate() {
+                    *c = mode_coefficients(self.omega[i], self.damp[i], h);
+                }
+                self.coef_h[slot] = h;
+                slot
             }
-            self.coef_h = h;
-        }
+        };
         let t0 = self.time;
         for i in 0..self.y.len() {
-            let c = &self.coef[i];
+            let c = &self.coef[slot][i];
             let f0 = self.io.force(i, t0);
             let f1 = self.io.fd[i];
             let (y, v) = (self.y[i], self.yd[i]);

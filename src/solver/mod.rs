@@ -1,14 +1,30 @@
 //! Time integration of a flexible body, independent of FMI. One trait, one file per
 //! method. A solver is built from a [`Scene`] and only computes loads and outputs for the
 //! scene's exposed nodes.
+//!
+//! Blocked bodies (Iblo=1) are linear,
+//! `diag(m_L) a + (beta K_L + alpha diag(m_L)) v + K_L q = F_L` in the fixed frame P0:
+//! - [`exact`]: modal stepping, exact for held or linearly varying loads, any step;
+//! - [`implicit`]: generalised-alpha, second order, unconditionally stable;
+//! - [`explicit`]: the Radioss central-difference scheme, sub-cycled below dt_fx.
+//!
+//! [`nodes`] holds what they share: the exposed-node rows of the modes in the global
+//! frame, the caller's load model (value, rate, time) and the node outputs, all
+//! preallocated so that `step` and the outputs never allocate. `dense` has the small
+//! in-place kernels (Cholesky) and `expm` the per-mode transition of the exact method.
 
 use crate::scene::Scene;
 
+mod dense;
 pub mod exact;
+pub mod explicit;
 mod expm;
+pub mod implicit;
 pub mod nodes;
 
 pub use exact::Exact;
+pub use explicit::Explicit;
+pub use implicit::Implicit;
 
 /// Integration method. The numbers are the FMI enumeration values.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -69,6 +85,10 @@ pub enum SolverError {
     /// A saved state that does not belong to this solver.
     #[error("state does not fit this solver: {0}")]
     BadState(String),
+    /// An argument or scene value that is not usable (non-finite load, node index
+    /// outside the body).
+    #[error("bad input: {0}")]
+    BadInput(String),
     /// The body cannot be simulated (for example a singular rigid mass).
     #[error("body cannot be simulated: {0}")]
     Singular(String),
@@ -140,7 +160,6 @@ pub fn build(
     method: Method,
     opts: &Options,
 ) -> Result<Box<dyn Solver>, SolverError> {
-    let _ = opts;
     if !scene.body.iblo {
         return Err(SolverError::Unsupported {
             method,
@@ -149,9 +168,7 @@ pub fn build(
     }
     match method {
         Method::Exact => Ok(Box::new(Exact::new(scene)?)),
-        Method::Implicit | Method::Explicit => Err(SolverError::Unsupported {
-            method,
-            why: "not implemented yet".into(),
-        }),
+        Method::Implicit => Ok(Box::new(Implicit::new(scene, opts.rho_inf)?)),
+        Method::Explicit => Ok(Box::new(Explicit::new(scene, opts)?)),
     }
 }

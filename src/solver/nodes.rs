@@ -53,7 +53,7 @@ impl Exposed {
             });
         }
         if let Some(&bad) = scene.nodes.iter().find(|&&n| n >= body.nnodes()) {
-            return Err(SolverError::BadState(format!(
+            return Err(SolverError::BadInput(format!(
                 "exposed node index {bad} is outside the body's {} nodes",
                 body.nnodes()
             )));
@@ -107,7 +107,7 @@ impl Exposed {
             });
         }
         if v.iter().any(|x| !x.is_finite()) {
-            return Err(SolverError::BadState(format!(
+            return Err(SolverError::BadInput(format!(
                 "{what}: values must be finite"
             )));
         }

@@ -7,6 +7,7 @@ use std::sync::Arc;
 use fxbody::body::Body;
 use fxbody::fxb::FxbFile;
 use fxbody::scene::Scene;
+use fxbody::solver::{Method, Options, build};
 
 /// A small deterministic generator (64-bit LCG), uniform in [-1, 1).
 pub struct Lcg(pub u64);
@@ -195,4 +196,41 @@ pub fn sdof_sine(m: f64, c: f64, k: f64, f: f64, big_w: f64, t: f64) -> (f64, f6
     // Homogeneous part cancels qp(0) = b, vp(0) = a W.
     let (qh, vh) = sdof(m, c, k, 0.0, 0.0, -b, -a * big_w, t);
     (qp + qh, vp + vh)
+}
+
+/// Largest displacement error over [0, 2] s for a sine load sampled every h, held or
+/// with its derivative as rate.
+pub fn sine_error(method: Method, n: usize, linear: bool, opts: &Options) -> f64 {
+    let (m, k, alpha) = (1.0, (2.0 * std::f64::consts::PI * 2.0f64).powi(2), 0.5);
+    let (f, big_w) = (3.0, 2.0 * std::f64::consts::PI * 0.7);
+    let scene = one_mode_scene(m, k, Some((alpha, 0.0)));
+    let mut s = build(&scene, method, opts).unwrap();
+    let h = 2.0 / n as f64;
+    let mut err = 0.0f64;
+    for i in 0..n {
+        let t = i as f64 * h;
+        s.set_loads(&[f * (big_w * t).sin(), 0.0, 0.0, 0.0, 0.0, 0.0])
+            .unwrap();
+        if linear {
+            s.set_load_rates(&[f * big_w * (big_w * t).cos(), 0.0, 0.0, 0.0, 0.0, 0.0])
+                .unwrap();
+        }
+        s.step(h).unwrap();
+        let mut p = [0.0; 3];
+        s.positions(&mut p);
+        let q = p[0] - 0.5;
+        let (qr, _) = sdof_sine(m, alpha * m, k, f, big_w, t + h);
+        err = err.max((q - qr).abs());
+    }
+    err
+}
+
+/// Convergence orders from three step counts n0, 2 n0, 4 n0 (the two log2 ratios).
+pub fn orders(method: Method, linear: bool, n0: usize, opts: &Options) -> (f64, f64) {
+    let e: Vec<f64> = [n0, 2 * n0, 4 * n0]
+        .iter()
+        .map(|&n| sine_error(method, n, linear, opts))
+        .collect();
+    println!("{method:?} linear={linear}: errors {e:?}");
+    ((e[0] / e[1]).log2(), (e[1] / e[2]).log2())
 }
