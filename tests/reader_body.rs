@@ -283,3 +283,28 @@ fn load_body_reads_and_validates() {
     assert!(matches!(e, fxb::LoadError::File(_)), "{e}");
     assert!(e.to_string().contains("missing.fxb: cannot read the file"));
 }
+
+#[test]
+fn too_many_local_modes_for_a_dense_eigen_analysis() {
+    let mut f = read("fmt_fixed.fxb");
+    f.nbmod = fxbody::body::MAX_LOCAL_MODES + 1;
+    let (e, msg) = body_err(&f);
+    assert!(matches!(e, BodyError::TooManyModes { .. }), "{msg}");
+}
+
+#[test]
+fn rigid_mass_without_translational_mass() {
+    // Only the rotary-inertia modes 13-15 carry mass: no mass for rigid translations.
+    let mut f = read("body_b0_r1_d0.fxb");
+    let nr = 15;
+    let mut k = 0;
+    for i in 0..nr {
+        for j in i..nr {
+            f.m_r[k] = if i == j && i >= 12 { 0.03 } else { 0.0 };
+            k += 1;
+        }
+    }
+    let (e, msg) = body_err(&f);
+    assert!(matches!(e, BodyError::NoMass { .. }), "{msg}");
+    assert!(msg.starts_with("b.fxb: block 11"), "{msg}");
+}

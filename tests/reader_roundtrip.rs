@@ -138,3 +138,38 @@ fn free_body_layout_has_sub_block_comments_and_two_lines_per_node() {
     // M_R: 120 values = 24 full lines.
     assert_eq!(f.m_r.len(), 120);
 }
+
+/// A free body with no local modes (Nbmod = 0): blocks 12 and 13 are absent; it reads,
+/// validates (mass from M_R alone) and round-trips.
+#[test]
+fn rigid_only_body_without_local_modes() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/body_b0_r0_d0.fxb");
+    let mut f = fxb::read_path(&path).unwrap();
+    f.nbmod = 0;
+    f.nbstat = 0;
+    f.freq = 0.0;
+    for v in [
+        &mut f.local_modes,
+        &mut f.m_l,
+        &mut f.k_full,
+        &mut f.k_diag,
+        &mut f.m_c,
+        &mut f.k_c,
+    ] {
+        v.clear();
+    }
+    let text = fxb::write(&f);
+    assert!(!text.contains("block 12") && !text.contains("block 13"));
+    let back = fxb::parse(&text, "rigid.fxb").unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(back, f);
+    let b = fxbody::body::Body::from_fxb(&back, "rigid.fxb").unwrap();
+    assert!(b.frequencies_hz.is_empty());
+    assert!((b.total_mass().unwrap() - 5.0).abs() < 1e-8);
+    // Data left over where blocks 12-13 would be is an error, not silently ignored.
+    let extra = format!("{text} 1.000000000E+00\n");
+    let e = fxb::parse(&extra, "rigid.fxb").unwrap_err().to_string();
+    assert!(
+        e.contains("block 11") && e.contains("data after the last block"),
+        "{e}"
+    );
+}

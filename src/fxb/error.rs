@@ -212,7 +212,7 @@ pub enum FxbError {
         free: String,
         /// Field width of the block (8 for integers, 16 for reals).
         width: usize,
-        /// Extra hint (text past column 100).
+        /// Extra hint (text past column 100, tabs).
         note: String,
     },
     /// Header counts that the rest of the file cannot possibly hold.

@@ -6,6 +6,11 @@
 //! separate values by blanks or tabs instead. [`read_line`] reads a line both ways and
 //! accepts it only when the readings agree or exactly one of them is possible, so that a
 //! file is never read differently from what its author meant without saying so.
+//!
+//! Details: a tab counts as one blank column in the fixed reading (so integers separated
+//! by single tabs or blanks, `21<tab>22`, are ambiguous: Radioss would read 2122); the
+//! blank-separated reading also splits numbers glued after an exponent with a letter
+//! (`0.0E+00-1.25E+01`), which no Fortran number can continue; values must be finite.
 
 use std::fmt::Display;
 
@@ -22,6 +27,10 @@ pub trait FieldValue: Copy + PartialEq + Display {
     const WHAT: &'static str;
     /// Parse the text of one field or token (blanks already removed), `None` if invalid.
     fn parse(text: &[u8]) -> Option<Self>;
+    /// Short text for messages.
+    fn show(&self) -> String {
+        self.to_string()
+    }
 }
 
 impl FieldValue for i64 {
@@ -39,6 +48,14 @@ impl FieldValue for f64 {
     const WHAT: &'static str = "a real number (16-column fields)";
     fn parse(text: &[u8]) -> Option<Self> {
         parse_real(text)
+    }
+    fn show(&self) -> String {
+        let a = self.abs();
+        if a != 0.0 && !(1e-4..1e15).contains(&a) {
+            format!("{self:e}")
+        } else {
+            self.to_string()
+        }
     }
 }
 
@@ -76,10 +93,10 @@ pub fn parse_int(text: &[u8]) -> Option<i64> {
 /// Non-finite results (overflow, `NaN`, `Inf`) are rejected: the file must hold numbers.
 pub fn parse_real(text: &[u8]) -> Option<f64> {
     let mut i = 0;
-    let mut norm = String::with_capacity(text.len() + 4);
+    let mut norm = Norm::default();
     if let Some(&s @ (b'+' | b'-')) = text.first() {
         if s == b'-' {
-            norm.push('-');
+            norm.push(b'-');
         }
         i = 1;
     }
@@ -101,7 +118,7 @@ pub fn parse_real(text: &[u8]) -> Option<f64> {
         return None;
     }
     push_digits(&mut norm, int_digits);
-    norm.push('.');
+    norm.push(b'.');
     push_digits(&mut norm, frac_digits);
     if i < text.len() {
         match text[i] {
@@ -109,10 +126,10 @@ pub fn parse_real(text: &[u8]) -> Option<f64> {
             b'+' | b'-' => {}
             _ => return None,
         }
-        norm.push('e');
+        norm.push(b'e');
         if let Some(&s @ (b'+' | b'-')) = text.get(i) {
             if s == b'-' {
-                norm.push('-');
+                norm.push(b'-');
             }
             i += 1;
         }
@@ -125,15 +142,53 @@ pub fn parse_real(text: &[u8]) -> Option<f64> {
         }
         push_digits(&mut norm, &text[e0..i]);
     }
-    let v: f64 = norm.parse().ok()?;
+    let v: f64 = std::str::from_utf8(norm.as_bytes()).ok()?.parse().ok()?;
     v.is_finite().then_some(v)
 }
 
-fn push_digits(out: &mut String, digits: &[u8]) {
+fn push_digits(out: &mut Norm, digits: &[u8]) {
     if digits.is_empty() {
-        out.push('0');
+        out.push(b'0');
     }
-    out.extend(digits.iter().map(|&d| char::from(d)));
+    for &d in digits {
+        out.push(d);
+    }
+}
+
+/// The normalised text of a number, on the stack unless it is unusually long (reading
+/// millions of values should not allocate for each).
+struct Norm {
+    stack: [u8; 64],
+    len: usize,
+    heap: Vec<u8>,
+}
+
+impl Default for Norm {
+    fn default() -> Self {
+        Norm {
+            stack: [0; 64],
+            len: 0,
+            heap: Vec::new(),
+        }
+    }
+}
+
+impl Norm {
+    fn push(&mut self, b: u8) {
+        if let Some(slot) = self.stack.get_mut(self.len) {
+            *slot = b;
+        } else {
+            if self.heap.is_empty() {
+                self.heap.extend_from_slice(&self.stack);
+            }
+            self.heap.push(b);
+        }
+        self.len += 1;
+    }
+
+    fn as_bytes(&self) -> &[u8] {
+        self.stack.get(..self.len).unwrap_or(&self.heap)
+    }
 }
 
 /// Why a line could not be read.
@@ -147,8 +202,8 @@ pub enum LineIssue {
         fixed: String,
         /// The blank-separated values.
         free: String,
-        /// Non-blank text past column 100 (ignored by the fixed reading).
-        past_100: bool,
+        /// Why the readings may differ (text past column 100, tabs), or empty.
+        note: String,
     },
 }
 
@@ -164,8 +219,13 @@ pub fn read_line<T: FieldValue>(line: &[u8]) -> Result<Vec<T>, LineIssue> {
             if a == b && count == b.len() {
                 Ok(a)
             } else {
-                let past_100 =
-                    line.len() > LINE_COLUMNS && line[LINE_COLUMNS..].iter().any(|&c| !is_blank(c));
+                let mut note = String::new();
+                if line.len() > LINE_COLUMNS && line[LINE_COLUMNS..].iter().any(|&c| !is_blank(c)) {
+                    note.push_str("; text past column 100 is ignored by the fixed reading");
+                }
+                if line.contains(&b'\t') {
+                    note.push_str("; a tab counts as one column in the fixed reading");
+                }
                 let mut free = list(&b);
                 if count > b.len() {
                     free = format!("{} values {}...", count, &free[..free.len() - 1]);
@@ -173,7 +233,7 @@ pub fn read_line<T: FieldValue>(line: &[u8]) -> Result<Vec<T>, LineIssue> {
                 Err(LineIssue::Ambiguous {
                     fixed: list(&a),
                     free,
-                    past_100,
+                    note,
                 })
             }
         }
@@ -188,8 +248,8 @@ pub fn read_line<T: FieldValue>(line: &[u8]) -> Result<Vec<T>, LineIssue> {
     }
 }
 
-fn list<T: Display>(v: &[T]) -> String {
-    let items: Vec<String> = v.iter().map(ToString::to_string).collect();
+fn list<T: FieldValue>(v: &[T]) -> String {
+    let items: Vec<String> = v.iter().map(|x| x.show()).collect();
     format!("[{}]", items.join(", "))
 }
 
@@ -331,6 +391,8 @@ mod tests {
         for (text, want) in cases {
             assert_eq!(parse_real(text.as_bytes()), Some(want), "{text}");
         }
+        let long = format!("{}.5E-{}", "1".repeat(80), "0".repeat(70) + "79");
+        assert_eq!(parse_real(long.as_bytes()), Some(1.1111111111111111));
         for bad in [
             "", ".", "E5", "1.0E", "1.0E+", "1..0", "NaN", "Inf", "1e999", "1.0x", "--1",
         ] {
@@ -394,6 +456,13 @@ mod tests {
 
     #[test]
     fn integers_that_both_readings_see_differently_are_ambiguous() {
+        match read_line::<i64>(b"21\t22") {
+            Err(LineIssue::Ambiguous { fixed, note, .. }) => {
+                assert_eq!(fixed, "[2122]");
+                assert!(note.contains("tab"));
+            }
+            other => panic!("{other:?}"),
+        }
         match read_line::<i64>(b"3 0 2 0 0 1 0") {
             Err(LineIssue::Ambiguous { fixed, free, .. }) => {
                 assert_eq!(fixed, "[3020, 10]");
@@ -414,7 +483,7 @@ mod tests {
         line.push_str(&" ".repeat(20));
         line.push_str("7.0");
         match reals(&line) {
-            Err(LineIssue::Ambiguous { past_100, .. }) => assert!(past_100),
+            Err(LineIssue::Ambiguous { note, .. }) => assert!(note.contains("column 100")),
             other => panic!("{other:?}"),
         }
     }
@@ -424,6 +493,47 @@ mod tests {
         // Fixed: [1, 0, 2]; blank-separated: [1, 2]: the line is ambiguous.
         let line = format!("{:>16}{:16}{:>16}", "1.0", "", "2.0");
         assert!(matches!(reals(&line), Err(LineIssue::Ambiguous { .. })));
+    }
+
+    #[test]
+    fn ambiguity_messages_keep_numbers_short() {
+        let line = format!("{:>16}{:>16}", "1.0E-300", "");
+        // Fixed [1e-300]; blank-separated [1e-300]: no ambiguity, one value.
+        assert_eq!(reals(&line).unwrap(), vec![1e-300]);
+        match reals("1.0E-30 1") {
+            Err(LineIssue::Ambiguous { fixed, free, .. }) => {
+                assert_eq!(fixed, "[1e-301]");
+                assert_eq!(free, "[1e-30, 1]");
+            }
+            other => panic!("{other:?}"),
+        }
+    }
+
+    #[test]
+    fn reference_guide_example_lines() {
+        let ints = |s: &str| read_line::<i64>(s.as_bytes()).unwrap();
+        assert_eq!(
+            ints("     45       15      18      1       0      1       0"),
+            vec![45, 15, 18, 1, 0, 1, 0]
+        );
+        assert_eq!(
+            ints("     31      32      33      34      35      36      37      38"),
+            vec![31, 32, 33, 34, 35, 36, 37, 38]
+        );
+        // Block 8 of the guide: irregular spacing, read blank-separated.
+        let v = reals(
+            "5.596016869E+03   8.234274572E+03  2.320889319E+04  1.215104250E+03  1.729160225E+02",
+        );
+        assert_eq!(
+            v.unwrap(),
+            vec![
+                5.596016869e3,
+                8.234274572e3,
+                2.320889319e4,
+                1.215104250e3,
+                1.729160225e2
+            ]
+        );
     }
 
     #[test]

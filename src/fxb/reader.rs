@@ -84,20 +84,12 @@ impl Reader<'_> {
                     expected: format!("{} ({})", T::WHAT, what()),
                     found,
                 },
-                LineIssue::Ambiguous {
-                    fixed,
-                    free,
-                    past_100,
-                } => FxbError::Ambiguous {
+                LineIssue::Ambiguous { fixed, free, note } => FxbError::Ambiguous {
                     at: self.at(ln, block),
                     fixed,
                     free,
                     width: T::WIDTH,
-                    note: if past_100 {
-                        "; note that text past column 100 is ignored by Radioss".into()
-                    } else {
-                        String::new()
-                    },
+                    note,
                 },
             })?;
             if vals.len() > need {
