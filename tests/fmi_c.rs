@@ -48,7 +48,7 @@ fn c_master_matches_the_rust_solver() {
         .arg(root().join("tests/c/fmu_driver.c"))
         .arg("-o")
         .arg(&exe)
-        .arg("-ldl")
+        .args(["-ldl", "-lm"])
         .output()
         .expect("a C compiler `cc` on PATH");
     assert!(

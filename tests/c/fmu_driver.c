@@ -10,6 +10,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <math.h>
 #include <time.h>
 
 #include "fxbody.h"
@@ -89,7 +90,9 @@ int main(int argc, char **argv) {
     struct timespec t0, t1;
     clock_gettime(CLOCK_MONOTONIC, &t0);
     for (int k = 0; k < steps; k++) {
-        CHECK(set_real(c, &vr_in, 1, &force));
+        /* Bench mode: a load that changes every step, as in a coupled run. */
+        double f = bench ? force * sin(1e-3 * k) : force;
+        CHECK(set_real(c, &vr_in, 1, &f));
         CHECK(do_step(c, t, h, fmi2True));
         t = (k + 1) * h;
         if (bench) CHECK(get_real(c, &vr_out, 1, &y));
