@@ -17,12 +17,18 @@ struct Cli {
 enum Command {
     /// Show what a .fxb file holds: counts, flags, nodes, frequencies, stable step, mass.
     Info(cli::info::InfoArgs),
+    /// Pack a .fxb file into an FMI 2.0 co-simulation FMU.
+    Pack(cli::pack::PackArgs),
+    /// The main job: pack the shipped cantilever, run a tip step load through the FMU's C ABI.
+    Demo(cli::demo::DemoArgs),
 }
 
 fn main() {
     let cli = Cli::parse();
     let result = match &cli.command {
         Command::Info(args) => cli::info::run(args),
+        Command::Pack(args) => cli::pack::run(args),
+        Command::Demo(args) => cli::demo::run(args),
     };
     if let Err(message) = result {
         eprintln!("fxbody: {message}");

@@ -1,1 +1,13 @@
-//! modelDescription.xml from a scene, and packaging the `.fmu` archive.
+//! modelDescription.xml from a scene, the running model behind an FMU instance, and
+//! packaging the `.fmu` archive. Safe Rust only; the C ABI is in [`crate::fmi`].
+
+pub mod doc;
+pub mod hash;
+pub mod model;
+pub mod options;
+pub mod pack;
+pub mod scene_io;
+pub mod snapshot;
+pub mod vars;
+pub mod xml;
+pub mod zip;

@@ -1,0 +1,197 @@
+//! Benchmark of issue 6: cost of one communication step (setReal + doStep + getReal) on
+//! a blocked body with 20 modes and 2 exposed nodes, exact method:
+//! (a) a C master through the packed FMU's C ABI (tests/c/fmu_driver.c, built here),
+//! (b) the Rust solver called directly, (c) the same scene as a numpy loop over the exact
+//! discrete state space (what a Python user would write). Prints times and ratios; a
+//! speed is never asserted. Run: `cargo bench --bench fmi_step`.
+
+use std::path::PathBuf;
+use std::process::Command;
+use std::time::Instant;
+
+use fxbody::fmu::pack::{PackRequest, find_library, pack};
+use fxbody::fmu::scene_io::load_resources;
+use fxbody::solver::{self, Method, Options};
+
+fn main() {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let tmp = std::env::temp_dir().join(format!("fxbody_bench_{}", std::process::id()));
+    std::fs::create_dir_all(&tmp).unwrap();
+    let lib = find_library(None).expect("libfxbody.so next to the bench executable");
+    let fmu = tmp.join("bench.fmu");
+    let req = PackRequest {
+        body: root.join("fixtures/cantilever.fxb"),
+        coords: Some(root.join("fixtures/cantilever.nodes.rad")),
+        nodes: Some(vec![121, 111]),
+        name: Some("bench".into()),
+        ..PackRequest::default()
+    };
+    let p = pack(&req, &lib, &fmu).unwrap();
+    for (name, data) in fxbody::fmu::zip::read(&std::fs::read(&fmu).unwrap()).unwrap() {
+        let path = tmp.join(&name);
+        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+        std::fs::write(path, data).unwrap();
+    }
+    let (steps, h, force) = (1_000_000usize, 2e-4, 1.0);
+    let vr = |n: &str| {
+        p.table
+            .vars
+            .iter()
+            .find(|v| v.name == n)
+            .unwrap()
+            .vr
+            .to_string()
+    };
+
+    // (a) C master.
+    let exe = tmp.join("driver");
+    let cc = Command::new("cc")
+        .args(["-O2", "-std=c99", "-D_POSIX_C_SOURCE=200809L", "-I"])
+        .arg(root.join("include"))
+        .arg(root.join("tests/c/fmu_driver.c"))
+        .arg("-o")
+        .arg(&exe)
+        .args(["-ldl", "-lm"])
+        .status()
+        .expect("cc");
+    assert!(cc.success());
+    let mut c_ns = Vec::new();
+    let mut y_c = 0.0;
+    for _ in 0..3 {
+        let out = Command::new(&exe)
+            .arg(tmp.join("binaries/linux64/bench.so"))
+            .arg(fxbody::fmi::host::file_uri(&tmp.join("resources")))
+            .arg(&p.guid)
+            .args([vr("node_121.fy"), vr("node_121.y")])
+            .args([
+                steps.to_string(),
+                h.to_string(),
+                force.to_string(),
+                "bench".into(),
+            ])
+            .output()
+            .unwrap();
+        let text = String::from_utf8_lossy(&out.stdout).to_string();
+        assert!(
+            out.status.success(),
+            "{text}{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let mut lines = text.lines();
+        y_c = lines.next().unwrap().parse().unwrap();
+        c_ns.push(
+            lines
+                .next()
+                .unwrap()
+                .split_whitespace()
+                .nth(1)
+                .unwrap()
+                .parse::<f64>()
+                .unwrap(),
+        );
+    }
+
+    // (b) The solver directly, same scene and load sequence.
+    let res = load_resources(&tmp.join("resources")).unwrap();
+    let mut direct_ns = Vec::new();
+    let mut y_direct = 0.0;
+    for _ in 0..3 {
+        let mut s = solver::build(&res.scene, Method::Exact, &Options::default()).unwrap();
+        let mut loads = [0.0; 12];
+        let mut pos = [0.0; 6];
+        let start = Instant::now();
+        for k in 0..steps {
+            loads[1] = force * (1e-3 * k as f64).sin();
+            s.set_loads(&loads).unwrap();
+            s.step(h).unwrap();
+            s.positions(&mut pos);
+        }
+        direct_ns.push(start.elapsed().as_secs_f64() * 1e9 / steps as f64);
+        y_direct = pos[1];
+    }
+
+    // (c) numpy, from the body's own matrices (local frame = global: P0 = I here).
+    let body = &res.scene.body;
+    let row = |node: usize, c: usize| -> Vec<f64> {
+        (0..body.nl())
+            .map(|j| body.phi_l[(6 * node + c, j)])
+            .collect()
+    };
+    let n121 = res.scene.nodes[0];
+    let k: Vec<Vec<f64>> = (0..body.nl())
+        .map(|i| (0..body.nl()).map(|j| body.k_l[(i, j)]).collect())
+        .collect();
+    let m: Vec<f64> = body.m_l.iter().copied().collect();
+    let json = serde_json::json!({"k_l": k, "m_l": m, "phi_in": row(n121, 1), "phi_out": [row(n121, 1)], "force": force});
+    let mats = tmp.join("mats.json");
+    std::fs::write(&mats, json.to_string()).unwrap();
+    let py = std::env::var("FXBODY_PYTHON")
+        .map(PathBuf::from)
+        .unwrap_or(root.join(".venv/bin/python"));
+    let np_steps = 100_000;
+    let np = Command::new(&py)
+        .arg(root.join("benches/fmi_numpy.py"))
+        .arg(&mats)
+        .args([np_steps.to_string(), h.to_string()])
+        .output();
+    let (np_ns, y_np) = match np {
+        Ok(o) if o.status.success() => {
+            let t = String::from_utf8_lossy(&o.stdout).to_string();
+            let val = |key: &str| {
+                t.lines()
+                    .find_map(|l| l.strip_prefix(key))
+                    .map(|v| v.trim().parse::<f64>().unwrap())
+            };
+            (val("ns_per_step"), val("y_final"))
+        }
+        _ => (None, None),
+    };
+
+    let best = |v: &[f64]| v.iter().copied().fold(f64::INFINITY, f64::min);
+    let (c, d) = (best(&c_ns), best(&direct_ns));
+    println!(
+        "fmi_step: blocked cantilever, {} modes, 2 exposed nodes, exact method, h = {h} s",
+        body.nl()
+    );
+    println!(
+        "  C master through the FMU ABI (setReal + doStep + getReal): {c:8.1} ns/step (best of 3 x {steps})"
+    );
+    println!("  Rust solver called directly (set_loads + step + positions): {d:8.1} ns/step");
+    println!(
+        "  FMI overhead per step: {:8.1} ns ({:.2}x the direct call)",
+        c - d,
+        c / d
+    );
+    match np_ns {
+        Some(n) => println!(
+            "  numpy loop over the exact discrete state space:            {n:8.1} ns/step ({:.1}x slower than the C ABI)",
+            n / c
+        ),
+        None => println!("  numpy loop: skipped ({} not usable)", py.display()),
+    }
+    // Same physics, three implementations: after 1e6 steps (C, Rust) they must agree.
+    println!("  tip y after {steps} steps: C {y_c:.12e}, Rust {y_direct:.12e}");
+    if let Some(y) = y_np {
+        // numpy ran fewer steps: compare with the Rust solver over the same steps.
+        let mut s = solver::build(&res.scene, Method::Exact, &Options::default()).unwrap();
+        let mut loads = [0.0; 12];
+        let mut pos = [0.0; 6];
+        for k in 0..np_steps {
+            loads[1] = force * (1e-3 * k as f64).sin();
+            s.set_loads(&loads).unwrap();
+            s.step(h).unwrap();
+        }
+        s.positions(&mut pos);
+        let x0 = res.scene.x0[0][1];
+        println!(
+            "  tip displacement after {np_steps} steps: numpy {y:.12e}, Rust {:.12e} (relative difference {:.1e})",
+            pos[1] - x0,
+            (y - (pos[1] - x0)).abs() / y.abs()
+        );
+    }
+    if std::env::var_os("FXBODY_BENCH_KEEP").is_none() {
+        let _ = std::fs::remove_dir_all(&tmp);
+    } else {
+        println!("  kept {}", tmp.display());
+    }
+}

@@ -1,0 +1,512 @@
+//! The host side: load a packed FMU's library with `dlopen` and call it through its C
+//! ABI, exactly as a master would. Used by `fxbody demo` and the tests, so that they
+//! exercise the real exports rather than the Rust functions behind them.
+
+use std::ffi::{CString, c_char, c_int, c_void};
+use std::path::Path;
+use std::sync::Mutex;
+
+use super::instance::{c_text, text_arg};
+use super::types::*;
+
+type Instantiate = unsafe extern "C" fn(
+    fmi2String,
+    fmi2Type,
+    fmi2String,
+    fmi2String,
+    *const fmi2CallbackFunctions,
+    fmi2Boolean,
+    fmi2Boolean,
+) -> fmi2Component;
+type Free = unsafe extern "C" fn(fmi2Component);
+type Setup = unsafe extern "C" fn(
+    fmi2Component,
+    fmi2Boolean,
+    fmi2Real,
+    fmi2Real,
+    fmi2Boolean,
+    fmi2Real,
+) -> fmi2Status;
+type Plain = unsafe extern "C" fn(fmi2Component) -> fmi2Status;
+type GetReal = unsafe extern "C" fn(
+    fmi2Component,
+    *const fmi2ValueReference,
+    usize,
+    *mut fmi2Real,
+) -> fmi2Status;
+type SetReal = unsafe extern "C" fn(
+    fmi2Component,
+    *const fmi2ValueReference,
+    usize,
+    *const fmi2Real,
+) -> fmi2Status;
+type SetInteger = unsafe extern "C" fn(
+    fmi2Component,
+    *const fmi2ValueReference,
+    usize,
+    *const fmi2Integer,
+) -> fmi2Status;
+type DoStep = unsafe extern "C" fn(fmi2Component, fmi2Real, fmi2Real, fmi2Boolean) -> fmi2Status;
+type GetState = unsafe extern "C" fn(fmi2Component, *mut fmi2FMUstate) -> fmi2Status;
+type SetState = unsafe extern "C" fn(fmi2Component, fmi2FMUstate) -> fmi2Status;
+type StateSize = unsafe extern "C" fn(fmi2Component, fmi2FMUstate, *mut usize) -> fmi2Status;
+type Serialize =
+    unsafe extern "C" fn(fmi2Component, fmi2FMUstate, *mut fmi2Byte, usize) -> fmi2Status;
+type Deserialize =
+    unsafe extern "C" fn(fmi2Component, *const fmi2Byte, usize, *mut fmi2FMUstate) -> fmi2Status;
+type Derivs = unsafe extern "C" fn(
+    fmi2Component,
+    *const fmi2ValueReference,
+    usize,
+    *const fmi2Integer,
+    *const fmi2Real,
+) -> fmi2Status;
+type OutDerivs = unsafe extern "C" fn(
+    fmi2Component,
+    *const fmi2ValueReference,
+    usize,
+    *const fmi2Integer,
+    *mut fmi2Real,
+) -> fmi2Status;
+
+/// The functions a host uses, resolved from the library.
+struct Fns {
+    instantiate: Instantiate,
+    free: Free,
+    setup: Setup,
+    enter_init: Plain,
+    exit_init: Plain,
+    terminate: Plain,
+    reset: Plain,
+    get_real: GetReal,
+    set_real: SetReal,
+    set_integer: SetInteger,
+    do_step: DoStep,
+    get_state: GetState,
+    set_state: SetState,
+    free_state: GetState,
+    state_size: StateSize,
+    serialize: Serialize,
+    deserialize: Deserialize,
+    set_input_derivatives: Derivs,
+    get_output_derivatives: OutDerivs,
+}
+
+/// A loaded FMU library (closed on drop).
+pub struct FmuLibrary {
+    handle: *mut c_void,
+    f: Fns,
+}
+
+fn dl_error() -> String {
+    // SAFETY: dlerror returns NULL or a NUL-terminated string valid until the next dl call.
+    unsafe { text_arg(libc::dlerror()) }.unwrap_or_else(|| "unknown dl error".into())
+}
+
+impl FmuLibrary {
+    /// `dlopen` the library at `path` and resolve the functions.
+    pub fn open(path: &Path) -> Result<FmuLibrary, String> {
+        let cpath = CString::new(path.as_os_str().as_encoded_bytes())
+            .map_err(|_| "library path holds a NUL byte".to_string())?;
+        // SAFETY: a valid C string; RTLD_LOCAL keeps two loaded FMUs' symbols apart.
+        let handle = unsafe { libc::dlopen(cpath.as_ptr(), libc::RTLD_NOW | libc::RTLD_LOCAL) };
+        if handle.is_null() {
+            return Err(format!("cannot load {}: {}", path.display(), dl_error()));
+        }
+        macro_rules! sym {
+            ($name:literal, $ty:ty) => {{
+                // SAFETY: `handle` is a live dlopen handle and the name is NUL-terminated.
+                let p = unsafe { libc::dlsym(handle, concat!($name, "\0").as_ptr().cast()) };
+                if p.is_null() {
+                    // SAFETY: the handle is live and closed once, here.
+                    unsafe { libc::dlclose(handle) };
+                    return Err(format!("{}: missing export {}", path.display(), $name));
+                }
+                // SAFETY: the symbol is the FMI 2.0 function of that name, whose C
+                // signature is `$ty` (fmi2Functions.h).
+                unsafe { std::mem::transmute::<*mut c_void, $ty>(p) }
+            }};
+        }
+        let f = Fns {
+            instantiate: sym!("fmi2Instantiate", Instantiate),
+            free: sym!("fmi2FreeInstance", Free),
+            setup: sym!("fmi2SetupExperiment", Setup),
+            enter_init: sym!("fmi2EnterInitializationMode", Plain),
+            exit_init: sym!("fmi2ExitInitializationMode", Plain),
+            terminate: sym!("fmi2Terminate", Plain),
+            reset: sym!("fmi2Reset", Plain),
+            get_real: sym!("fmi2GetReal", GetReal),
+            set_real: sym!("fmi2SetReal", SetReal),
+            set_integer: sym!("fmi2SetInteger", SetInteger),
+            do_step: sym!("fmi2DoStep", DoStep),
+            get_state: sym!("fmi2GetFMUstate", GetState),
+            set_state: sym!("fmi2SetFMUstate", SetState),
+            free_state: sym!("fmi2FreeFMUstate", GetState),
+            state_size: sym!("fmi2SerializedFMUstateSize", StateSize),
+            serialize: sym!("fmi2SerializeFMUstate", Serialize),
+            deserialize: sym!("fmi2DeSerializeFMUstate", Deserialize),
+            set_input_derivatives: sym!("fmi2SetRealInputDerivatives", Derivs),
+            get_output_derivatives: sym!("fmi2GetRealOutputDerivatives", OutDerivs),
+        };
+        Ok(FmuLibrary { handle, f })
+    }
+
+    /// Instantiate a co-simulation slave with debug logging `debug`. On failure the
+    /// error holds what the FMU logged.
+    pub fn instantiate(
+        &self,
+        name: &str,
+        guid: &str,
+        resource_uri: &str,
+        debug: bool,
+    ) -> Result<Instance<'_>, String> {
+        let log = Box::new(Mutex::new(Vec::new()));
+        let functions = fmi2CallbackFunctions {
+            logger: host_logger(),
+            allocateMemory: None,
+            freeMemory: None,
+            stepFinished: None,
+            componentEnvironment: (&*log as *const Mutex<Vec<String>>).cast_mut().cast(),
+        };
+        let (n, g, r) = (c_text(name), c_text(guid), c_text(resource_uri));
+        // SAFETY: valid C strings and callbacks for the call; the environment pointer
+        // (the boxed log) lives as long as the instance, which owns it.
+        let c = unsafe {
+            (self.f.instantiate)(
+                n.as_ptr(),
+                fmi2CoSimulation,
+                g.as_ptr(),
+                r.as_ptr(),
+                &functions,
+                fmi2False,
+                c_int::from(debug),
+            )
+        };
+        if c.is_null() {
+            let msgs = log.lock().map(|m| m.join("; ")).unwrap_or_default();
+            return Err(format!("fmi2Instantiate returned NULL: {msgs}"));
+        }
+        Ok(Instance { lib: self, c, log })
+    }
+}
+
+impl Drop for FmuLibrary {
+    fn drop(&mut self) {
+        // SAFETY: a live handle from dlopen, closed once; instances borrow the library,
+        // so none is alive now.
+        unsafe { libc::dlclose(self.handle) };
+    }
+}
+
+/// The host's logger: stores `"[category] text"` in the environment's log.
+///
+/// Stable Rust cannot define a C-variadic function. The FMU this host loads (ours)
+/// always calls the logger with the format "%s" and exactly one `char*` argument, and on
+/// the Linux x86-64 (System V) and AArch64 ABIs such a variadic call passes its six
+/// integer/pointer arguments in the same registers as a non-variadic call with six
+/// pointer parameters. So a six-argument function reads the message correctly there;
+/// elsewhere no logger is passed.
+extern "C" fn log_six(
+    env: *mut c_void,
+    _name: fmi2String,
+    _status: fmi2Status,
+    category: fmi2String,
+    _fmt: fmi2String,
+    msg: *const c_char,
+) {
+    if env.is_null() {
+        return;
+    }
+    // SAFETY: `env` is the boxed Mutex<Vec<String>> of the instance being called.
+    let log = unsafe { &*env.cast::<Mutex<Vec<String>>>() };
+    // SAFETY: category and message are NUL-terminated strings for the call (or NULL).
+    let (cat, text) = unsafe {
+        (
+            text_arg(category).unwrap_or_default(),
+            text_arg(msg).unwrap_or_default(),
+        )
+    };
+    if let Ok(mut l) = log.lock() {
+        l.push(format!("[{cat}] {text}"));
+    }
+}
+
+fn host_logger() -> fmi2CallbackLogger {
+    #[cfg(all(
+        target_os = "linux",
+        any(target_arch = "x86_64", target_arch = "aarch64")
+    ))]
+    {
+        type Six = extern "C" fn(
+            *mut c_void,
+            fmi2String,
+            fmi2Status,
+            fmi2String,
+            fmi2String,
+            *const c_char,
+        );
+        // SAFETY: see `log_six`: on these ABIs the variadic call our FMU makes passes
+        // exactly the six arguments this function reads, in the same registers.
+        Some(unsafe {
+            std::mem::transmute::<
+                Six,
+                unsafe extern "C" fn(
+                    fmi2ComponentEnvironment,
+                    fmi2String,
+                    fmi2Status,
+                    fmi2String,
+                    fmi2String,
+                    ...
+                ),
+            >(log_six as Six)
+        })
+    }
+    #[cfg(not(all(
+        target_os = "linux",
+        any(target_arch = "x86_64", target_arch = "aarch64")
+    )))]
+    {
+        None
+    }
+}
+
+/// A live instance of a loaded FMU (freed on drop).
+pub struct Instance<'a> {
+    lib: &'a FmuLibrary,
+    c: fmi2Component,
+    log: Box<Mutex<Vec<String>>>,
+}
+
+/// A saved FMU state owned by the host (free it with [`Instance::free_state`]).
+pub struct SavedState(fmi2FMUstate);
+
+fn check(what: &str, s: fmi2Status, log: &Mutex<Vec<String>>) -> Result<(), String> {
+    if s == fmi2OK {
+        Ok(())
+    } else {
+        let last = log
+            .lock()
+            .ok()
+            .and_then(|l| l.last().cloned())
+            .unwrap_or_default();
+        Err(format!("{what} returned status {s}: {last}"))
+    }
+}
+
+impl Instance<'_> {
+    /// Messages the FMU logged so far.
+    pub fn messages(&self) -> Vec<String> {
+        self.log.lock().map(|l| l.clone()).unwrap_or_default()
+    }
+
+    /// fmi2SetupExperiment.
+    pub fn setup(&self, start: f64, stop: Option<f64>) -> Result<(), String> {
+        // SAFETY: `c` is a live instance of `lib`.
+        let s = unsafe {
+            (self.lib.f.setup)(
+                self.c,
+                fmi2False,
+                0.0,
+                start,
+                c_int::from(stop.is_some()),
+                stop.unwrap_or(0.0),
+            )
+        };
+        check("fmi2SetupExperiment", s, &self.log)
+    }
+
+    fn plain(&self, what: &str, f: Plain) -> Result<(), String> {
+        // SAFETY: `c` is a live instance of `lib`.
+        check(what, unsafe { f(self.c) }, &self.log)
+    }
+
+    /// fmi2EnterInitializationMode.
+    pub fn enter_init(&self) -> Result<(), String> {
+        self.plain("fmi2EnterInitializationMode", self.lib.f.enter_init)
+    }
+
+    /// fmi2ExitInitializationMode.
+    pub fn exit_init(&self) -> Result<(), String> {
+        self.plain("fmi2ExitInitializationMode", self.lib.f.exit_init)
+    }
+
+    /// fmi2Terminate.
+    pub fn terminate(&self) -> Result<(), String> {
+        self.plain("fmi2Terminate", self.lib.f.terminate)
+    }
+
+    /// fmi2Reset.
+    pub fn reset(&self) -> Result<(), String> {
+        self.plain("fmi2Reset", self.lib.f.reset)
+    }
+
+    /// fmi2SetReal.
+    pub fn set_real(&self, vrs: &[u32], vals: &[f64]) -> Result<(), String> {
+        assert_eq!(vrs.len(), vals.len(), "one value per value reference");
+        // SAFETY: arrays of `vrs.len()` elements for the call.
+        check(
+            "fmi2SetReal",
+            unsafe { (self.lib.f.set_real)(self.c, vrs.as_ptr(), vrs.len(), vals.as_ptr()) },
+            &self.log,
+        )
+    }
+
+    /// fmi2SetInteger.
+    pub fn set_integer(&self, vrs: &[u32], vals: &[i32]) -> Result<(), String> {
+        assert_eq!(vrs.len(), vals.len(), "one value per value reference");
+        // SAFETY: arrays of `vrs.len()` elements for the call.
+        check(
+            "fmi2SetInteger",
+            unsafe { (self.lib.f.set_integer)(self.c, vrs.as_ptr(), vrs.len(), vals.as_ptr()) },
+            &self.log,
+        )
+    }
+
+    /// fmi2GetReal into `out` (same length as `vrs`).
+    pub fn get_real(&self, vrs: &[u32], out: &mut [f64]) -> Result<(), String> {
+        assert_eq!(vrs.len(), out.len(), "one slot per value reference");
+        // SAFETY: arrays of `vrs.len()` elements for the call, `out` writable.
+        check(
+            "fmi2GetReal",
+            unsafe { (self.lib.f.get_real)(self.c, vrs.as_ptr(), vrs.len(), out.as_mut_ptr()) },
+            &self.log,
+        )
+    }
+
+    /// fmi2DoStep.
+    pub fn do_step(&self, t: f64, h: f64) -> Result<(), String> {
+        // SAFETY: `c` is a live instance.
+        check(
+            "fmi2DoStep",
+            unsafe { (self.lib.f.do_step)(self.c, t, h, fmi2True) },
+            &self.log,
+        )
+    }
+
+    /// fmi2SetRealInputDerivatives (order 1 for each).
+    pub fn set_input_rates(&self, vrs: &[u32], rates: &[f64]) -> Result<(), String> {
+        let orders = vec![1; vrs.len()];
+        // SAFETY: arrays of `vrs.len()` elements for the call.
+        check(
+            "fmi2SetRealInputDerivatives",
+            unsafe {
+                (self.lib.f.set_input_derivatives)(
+                    self.c,
+                    vrs.as_ptr(),
+                    vrs.len(),
+                    orders.as_ptr(),
+                    rates.as_ptr(),
+                )
+            },
+            &self.log,
+        )
+    }
+
+    /// fmi2GetRealOutputDerivatives of one order for each of `vrs`.
+    pub fn output_derivatives(
+        &self,
+        vrs: &[u32],
+        order: i32,
+        out: &mut [f64],
+    ) -> Result<(), String> {
+        let orders = vec![order; vrs.len()];
+        // SAFETY: arrays of `vrs.len()` elements, `out` writable.
+        check(
+            "fmi2GetRealOutputDerivatives",
+            unsafe {
+                (self.lib.f.get_output_derivatives)(
+                    self.c,
+                    vrs.as_ptr(),
+                    vrs.len(),
+                    orders.as_ptr(),
+                    out.as_mut_ptr(),
+                )
+            },
+            &self.log,
+        )
+    }
+
+    /// fmi2GetFMUstate (a new state).
+    pub fn get_state(&self) -> Result<SavedState, String> {
+        let mut s: fmi2FMUstate = std::ptr::null_mut();
+        // SAFETY: `s` is a writable NULL handle.
+        check(
+            "fmi2GetFMUstate",
+            unsafe { (self.lib.f.get_state)(self.c, &mut s) },
+            &self.log,
+        )?;
+        Ok(SavedState(s))
+    }
+
+    /// fmi2SetFMUstate.
+    pub fn set_state(&self, s: &SavedState) -> Result<(), String> {
+        // SAFETY: `s` is a live state of this library.
+        check(
+            "fmi2SetFMUstate",
+            unsafe { (self.lib.f.set_state)(self.c, s.0) },
+            &self.log,
+        )
+    }
+
+    /// fmi2FreeFMUstate.
+    pub fn free_state(&self, mut s: SavedState) -> Result<(), String> {
+        // SAFETY: `s.0` is a live state of this library, freed once.
+        check(
+            "fmi2FreeFMUstate",
+            unsafe { (self.lib.f.free_state)(self.c, &mut s.0) },
+            &self.log,
+        )
+    }
+
+    /// fmi2SerializedFMUstateSize + fmi2SerializeFMUstate.
+    pub fn serialize(&self, s: &SavedState) -> Result<Vec<u8>, String> {
+        let mut n = 0usize;
+        // SAFETY: `s` is live, `n` writable.
+        check(
+            "fmi2SerializedFMUstateSize",
+            unsafe { (self.lib.f.state_size)(self.c, s.0, &mut n) },
+            &self.log,
+        )?;
+        let mut buf = vec![0u8; n];
+        // SAFETY: `buf` holds `n` writable bytes.
+        check(
+            "fmi2SerializeFMUstate",
+            unsafe { (self.lib.f.serialize)(self.c, s.0, buf.as_mut_ptr().cast(), n) },
+            &self.log,
+        )?;
+        Ok(buf)
+    }
+
+    /// fmi2DeSerializeFMUstate into a new state.
+    pub fn deserialize(&self, bytes: &[u8]) -> Result<SavedState, String> {
+        let mut s: fmi2FMUstate = std::ptr::null_mut();
+        // SAFETY: `bytes` for the call, `s` a writable NULL handle.
+        check(
+            "fmi2DeSerializeFMUstate",
+            unsafe { (self.lib.f.deserialize)(self.c, bytes.as_ptr().cast(), bytes.len(), &mut s) },
+            &self.log,
+        )?;
+        Ok(SavedState(s))
+    }
+}
+
+impl Drop for Instance<'_> {
+    fn drop(&mut self) {
+        // SAFETY: a live instance, freed once.
+        unsafe { (self.lib.f.free)(self.c) };
+    }
+}
+
+/// The `file:` URI of a folder, percent-encoding every byte outside the unreserved set
+/// and `/` (so spaces and non-ASCII names survive).
+pub fn file_uri(dir: &Path) -> String {
+    let mut s = String::from("file://");
+    for &b in dir.as_os_str().as_encoded_bytes() {
+        if b.is_ascii_alphanumeric() || b"/-._~".contains(&b) {
+            s.push(b as char);
+        } else {
+            s.push_str(&format!("%{b:02X}"));
+        }
+    }
+    s
+}

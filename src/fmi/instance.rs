@@ -1,0 +1,221 @@
+//! One FMU instance behind an `fmi2Component`: the copied callbacks and name, the
+//! logging switches, the FMI state, and the model. Also the entry wrapper every export
+//! goes through: null check, state mask, panic barrier, error logging.
+
+use std::ffi::{CStr, CString, c_char};
+use std::panic::{AssertUnwindSafe, catch_unwind};
+
+use super::state::FmiState;
+use super::types::*;
+use crate::fmu::model::Model;
+
+/// Log categories, in the order of `crate::fmu::xml::LOG_CATEGORIES` (a test checks).
+pub const CATEGORIES: [&CStr; 4] = [
+    c"logStatusError",
+    c"logStatusWarning",
+    c"logCalls",
+    c"logSolver",
+];
+/// Index of logStatusError.
+pub const LOG_ERROR: usize = 0;
+/// Index of logStatusWarning.
+pub const LOG_WARNING: usize = 1;
+/// Index of logCalls.
+pub const LOG_CALLS: usize = 2;
+/// Index of logSolver.
+pub const LOG_SOLVER: usize = 3;
+
+/// Where log messages go: the master's logger and environment, and the instance name,
+/// all copied at instantiation.
+pub struct Log {
+    logger: fmi2CallbackLogger,
+    env: fmi2ComponentEnvironment,
+    name: CString,
+    /// Debug categories switched on (errors and warnings are always passed on).
+    pub enabled: [bool; CATEGORIES.len()],
+}
+
+impl Log {
+    /// A log over the master's callbacks; `debug` switches every category on.
+    pub fn new(functions: &fmi2CallbackFunctions, name: &str, debug: bool) -> Log {
+        Log {
+            logger: functions.logger,
+            env: functions.componentEnvironment,
+            name: c_text(name),
+            enabled: [debug; CATEGORIES.len()],
+        }
+    }
+
+    /// Whether category `cat` would be passed on.
+    pub fn on(&self, cat: usize) -> bool {
+        cat <= LOG_WARNING || self.enabled[cat]
+    }
+
+    /// Send `text` to the logger (if any and if the category is on).
+    pub fn send(&self, status: fmi2Status, cat: usize, text: &str) {
+        if !self.on(cat) {
+            return;
+        }
+        let Some(logger) = self.logger else { return };
+        let msg = c_text(text);
+        // SAFETY: `logger` is the master's function pointer, valid for the instance's
+        // life (FMI 2.0: callbacks stay valid until fmi2FreeInstance). All pointers
+        // passed are NUL-terminated strings that outlive the call. The format is "%s"
+        // with exactly one char* argument, so printf-style handling in the logger reads
+        // exactly what we pass whatever the text holds.
+        unsafe {
+            logger(
+                self.env,
+                self.name.as_ptr(),
+                status,
+                CATEGORIES[cat].as_ptr(),
+                c"%s".as_ptr(),
+                msg.as_ptr(),
+            );
+        }
+    }
+}
+
+/// A C string from text, with any NUL byte replaced (a message is never lost).
+pub fn c_text(s: &str) -> CString {
+    CString::new(s.replace('\0', "\u{fffd}")).unwrap_or_default()
+}
+
+/// Text of a C string argument; `None` for NULL.
+///
+/// # Safety
+/// `p` is NULL or a NUL-terminated string valid for the call.
+pub unsafe fn text_arg(p: *const c_char) -> Option<String> {
+    if p.is_null() {
+        return None;
+    }
+    // SAFETY: non-null and NUL-terminated by the caller's contract.
+    Some(unsafe { CStr::from_ptr(p) }.to_string_lossy().into_owned())
+}
+
+/// An FMU instance.
+pub struct Instance {
+    /// The log.
+    pub log: Log,
+    /// FMI state.
+    pub state: FmiState,
+    /// The model.
+    pub model: Model,
+}
+
+/// What an export's body returns: a status to pass on (OK, Warning, Discard), or an
+/// error message (logged, the instance goes to the Error state, fmi2Error returned).
+pub type Outcome = Result<fmi2Status, String>;
+
+/// Run an export's body on the instance behind `c`: refuse NULL, check the call is legal
+/// in the current state (`mask`), catch panics (fmi2Fatal), log errors.
+pub fn enter(
+    c: fmi2Component,
+    func: &str,
+    mask: u16,
+    body: impl FnOnce(&mut Instance) -> Outcome,
+) -> fmi2Status {
+    if c.is_null() {
+        return fmi2Error;
+    }
+    let ptr = c.cast::<Instance>();
+    let result = {
+        // SAFETY: a non-null fmi2Component is a pointer this library returned from
+        // fmi2Instantiate (Box::into_raw) and that fmi2FreeInstance has not yet freed;
+        // FMI forbids concurrent calls on one instance, so this is the only reference.
+        let inst = unsafe { &mut *ptr };
+        if mask & inst.state.bit() == 0 {
+            let msg = format!("{func}: illegal call in state {:?}", inst.state);
+            inst.log.send(fmi2Error, LOG_ERROR, &msg);
+            if inst.state != FmiState::Fatal {
+                inst.state = FmiState::Error;
+            }
+            return fmi2Error;
+        }
+        if inst.log.on(LOG_CALLS) {
+            inst.log.send(fmi2OK, LOG_CALLS, func);
+        }
+        catch_unwind(AssertUnwindSafe(|| body(inst)))
+    };
+    // SAFETY: as above; the borrow inside the closure has ended.
+    let inst = unsafe { &mut *ptr };
+    match result {
+        Ok(Ok(status)) => status,
+        Ok(Err(msg)) => {
+            inst.log
+                .send(fmi2Error, LOG_ERROR, &format!("{func}: {msg}"));
+            inst.state = FmiState::Error;
+            fmi2Error
+        }
+        Err(panic) => {
+            let what = panic_text(&*panic);
+            inst.state = FmiState::Fatal;
+            // Logging itself must not unwind out of the library.
+            let _ = catch_unwind(AssertUnwindSafe(|| {
+                inst.log.send(
+                    fmi2Fatal,
+                    LOG_ERROR,
+                    &format!("{func}: internal error (panic): {what}"),
+                )
+            }));
+            fmi2Fatal
+        }
+    }
+}
+
+/// The message of a caught panic.
+pub fn panic_text(p: &(dyn std::any::Any + Send)) -> String {
+    if let Some(s) = p.downcast_ref::<&str>() {
+        (*s).to_string()
+    } else if let Some(s) = p.downcast_ref::<String>() {
+        s.clone()
+    } else {
+        "unknown panic".to_string()
+    }
+}
+
+/// A slice from a C array; empty for `n == 0` whatever the pointer.
+///
+/// # Safety
+/// For `n > 0`, `p` is NULL (reported as an error) or points to `n` valid elements.
+pub unsafe fn slice<'a, T>(p: *const T, n: usize, what: &str) -> Result<&'a [T], String> {
+    if n == 0 {
+        return Ok(&[]);
+    }
+    if p.is_null() {
+        return Err(format!("{what} is NULL with {n} elements"));
+    }
+    // SAFETY: non-null and `n` valid elements by the caller's contract.
+    Ok(unsafe { std::slice::from_raw_parts(p, n) })
+}
+
+/// A mutable slice from a C array; empty for `n == 0`.
+///
+/// # Safety
+/// For `n > 0`, `p` is NULL (reported) or points to `n` writable elements not aliased
+/// by any other argument.
+pub unsafe fn slice_mut<'a, T>(p: *mut T, n: usize, what: &str) -> Result<&'a mut [T], String> {
+    if n == 0 {
+        return Ok(&mut []);
+    }
+    if p.is_null() {
+        return Err(format!("{what} is NULL with {n} elements"));
+    }
+    // SAFETY: non-null and `n` writable, unaliased elements by the caller's contract.
+    Ok(unsafe { std::slice::from_raw_parts_mut(p, n) })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn categories_match_the_description() {
+        let names: Vec<&str> = CATEGORIES.iter().map(|c| c.to_str().unwrap()).collect();
+        let declared: Vec<&str> = crate::fmu::xml::LOG_CATEGORIES
+            .iter()
+            .map(|c| c.0)
+            .collect();
+        assert_eq!(names, declared);
+    }
+}

@@ -1,0 +1,141 @@
+//! fmuResourceLocation: a `file` URI to a local folder. Accepted forms: `file:///abs`,
+//! `file://localhost/abs`, `file:/abs`, with or without a trailing slash, percent-encoded
+//! (`%20` is a space); a bare absolute path is accepted too, as some masters pass one.
+
+use std::ffi::OsString;
+use std::os::unix::ffi::OsStringExt;
+use std::path::PathBuf;
+
+/// The local folder a resource URI names.
+pub fn resource_path(uri: &str) -> Result<PathBuf, String> {
+    let path = if let Some(rest) = strip_prefix_ignore_case(uri, "file:") {
+        if let Some(after) = rest.strip_prefix("//") {
+            // Authority: empty or localhost.
+            let (host, p) = match after.find('/') {
+                Some(k) => (&after[..k], &after[k..]),
+                None => (after, ""),
+            };
+            if !(host.is_empty() || host.eq_ignore_ascii_case("localhost")) {
+                return Err(format!(
+                    "resource location '{uri}': host '{host}' is not local (expected file:///path or file://localhost/path)"
+                ));
+            }
+            p
+        } else {
+            rest
+        }
+    } else if uri.starts_with('/') {
+        uri
+    } else {
+        return Err(format!(
+            "resource location '{uri}' is not a file URI (expected file:///absolute/path)"
+        ));
+    };
+    // Query or fragment parts have no meaning for a folder.
+    let path = path.split(['?', '#']).next().unwrap_or("");
+    if !path.starts_with('/') {
+        return Err(format!(
+            "resource location '{uri}' does not name an absolute path"
+        ));
+    }
+    let bytes = percent_decode(path).map_err(|e| format!("resource location '{uri}': {e}"))?;
+    if bytes.contains(&0) {
+        return Err(format!(
+            "resource location '{uri}' decodes to a path with a NUL byte"
+        ));
+    }
+    let mut p = PathBuf::from(OsString::from_vec(bytes));
+    // PathBuf ignores a trailing slash in joins already; normalise it for messages.
+    if p.as_os_str().len() > 1 && p.as_os_str().as_encoded_bytes().ends_with(b"/") {
+        p = p.components().collect();
+    }
+    Ok(p)
+}
+
+fn strip_prefix_ignore_case<'a>(s: &'a str, prefix: &str) -> Option<&'a str> {
+    (s.len() >= prefix.len()
+        && s.as_bytes()[..prefix.len()].eq_ignore_ascii_case(prefix.as_bytes()))
+    .then(|| &s[prefix.len()..])
+}
+
+fn percent_decode(s: &str) -> Result<Vec<u8>, String> {
+    let b = s.as_bytes();
+    let mut out = Vec::with_capacity(b.len());
+    let mut k = 0;
+    while k < b.len() {
+        if b[k] == b'%' {
+            let hex = |c: u8| (c as char).to_digit(16);
+            match (
+                b.get(k + 1).copied().and_then(hex),
+                b.get(k + 2).copied().and_then(hex),
+            ) {
+                (Some(h), Some(l)) => out.push((h * 16 + l) as u8),
+                _ => {
+                    return Err(format!(
+                        "bad percent escape at byte {k}: expected %XX with two hex digits"
+                    ));
+                }
+            }
+            k += 3;
+        } else {
+            out.push(b[k]);
+            k += 1;
+        }
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn all_common_forms_decode_to_the_same_folder() {
+        let want = PathBuf::from("/tmp/my dir/res");
+        for uri in [
+            "file:///tmp/my%20dir/res",
+            "file:///tmp/my%20dir/res/",
+            "file://localhost/tmp/my%20dir/res",
+            "FILE:/tmp/my%20dir/res",
+            "file:/tmp/my dir/res/",
+            "/tmp/my dir/res",
+        ] {
+            assert_eq!(resource_path(uri).unwrap(), want, "{uri}");
+        }
+        // UTF-8 percent-encoded: e-acute is C3 A9.
+        assert_eq!(
+            resource_path("file:///a/caf%C3%A9").unwrap(),
+            PathBuf::from("/a/café")
+        );
+    }
+
+    #[test]
+    fn bad_uris_are_refused_with_a_reason() {
+        assert!(
+            resource_path("file://server/share")
+                .unwrap_err()
+                .contains("not local")
+        );
+        assert!(
+            resource_path("file:///a%2")
+                .unwrap_err()
+                .contains("percent")
+        );
+        assert!(
+            resource_path("file:///a%zz")
+                .unwrap_err()
+                .contains("percent")
+        );
+        assert!(
+            resource_path("http://x/y")
+                .unwrap_err()
+                .contains("not a file URI")
+        );
+        assert!(
+            resource_path("file:relative/x")
+                .unwrap_err()
+                .contains("absolute")
+        );
+        assert!(resource_path("file:///a%00b").unwrap_err().contains("NUL"));
+    }
+}

@@ -1,0 +1,93 @@
+//! documentation/index.html: the body at a glance (nodes, modes and frequencies, stable
+//! step, variables), so a user opening the FMU sees what it holds.
+
+use std::fmt::Write;
+
+use super::options::SceneOptions;
+use super::vars::{Causality, VarTable, method_name};
+use super::xml::default_experiment;
+use crate::body::stable_step;
+use crate::scene::Scene;
+
+fn esc(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
+/// The HTML page.
+pub fn index_html(scene: &Scene, table: &VarTable, opts: &SceneOptions, guid: &str) -> String {
+    let b = &scene.body;
+    let mut h = String::new();
+    let _ = write!(
+        h,
+        "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>{0}</title></head><body>\n<h1>{0}</h1>\n",
+        esc(&opts.name)
+    );
+    let beta = b.damping.map_or(0.0, |d| d.beta);
+    let (stop, step) = default_experiment(scene);
+    let _ = write!(
+        h,
+        "<p>A Radioss flexible body (/FXBODY) as an FMI 2.0 co-simulation unit, packed by fxbody {}.\
+         GUID {}.</p>\n<ul>\n<li>{} body, {} nodes, {} local modes ({} static), rotational DOFs: {}</li>\n\
+         <li>Damping: {}</li>\n<li>Explicit stable step (from the stored Freq {:.6e} Hz): {:.6e} s</li>\n\
+         <li>Default experiment: stop {} s, step {} s</li>\n<li>Methods: {}; default {}</li>\n<li>Units: {}</li>\n</ul>\n",
+        env!("CARGO_PKG_VERSION"),
+        esc(guid),
+        if table.free { "Free" } else { "Blocked" },
+        b.nnodes(),
+        b.nl(),
+        b.nbstat,
+        if b.irot { "yes" } else { "no" },
+        b.damping.map_or("none".to_string(), |d| format!(
+            "Rayleigh alpha {} 1/s, beta {} s",
+            d.alpha, d.beta
+        )),
+        b.freq_file,
+        stable_step(b.freq_file, beta),
+        stop,
+        step,
+        table
+            .methods()
+            .iter()
+            .map(|&m| method_name(m))
+            .collect::<Vec<_>>()
+            .join(", "),
+        method_name(table.default_method),
+        opts.units
+            .map_or("none declared (the file's own consistent system)", |u| u
+                .name()),
+    );
+    h.push_str("<h2>Eigenfrequencies of the local modes (Hz)</h2>\n<p>");
+    let f: Vec<String> = b.frequencies_hz.iter().map(|f| format!("{f:.6}")).collect();
+    h.push_str(&f.join(", "));
+    h.push_str("</p>\n<h2>Exposed nodes</h2>\n<table border=\"1\"><tr><th>ID</th><th>x</th><th>y</th><th>z</th><th>rotations</th></tr>\n");
+    for (k, &n) in scene.nodes.iter().enumerate() {
+        let [x, y, z] = scene.x0[k];
+        let _ = writeln!(
+            h,
+            "<tr><td>{}</td><td>{x}</td><td>{y}</td><td>{z}</td><td>{}</td></tr>",
+            b.node_ids[n],
+            if b.node_has_rotation(n) { "yes" } else { "no" }
+        );
+    }
+    h.push_str("</table>\n<h2>Variables</h2>\n<table border=\"1\"><tr><th>vr</th><th>name</th><th>causality</th><th>start</th><th>description</th></tr>\n");
+    for v in &table.vars {
+        let c = match v.causality {
+            Causality::Parameter => "parameter",
+            Causality::Input => "input",
+            Causality::Output => "output",
+        };
+        let _ = writeln!(
+            h,
+            "<tr><td>{}</td><td>{}</td><td>{c}</td><td>{}</td><td>{}</td></tr>",
+            v.vr,
+            esc(&v.name),
+            v.start.map_or(String::new(), |s| s.to_string()),
+            esc(&v.description)
+        );
+    }
+    h.push_str("</table>\n<p>Loads are in the global frame, held over a step or interpolated linearly when the master sets input derivatives. Outputs do not depend on same-instant inputs.</p>\n</body></html>\n");
+    h
+}

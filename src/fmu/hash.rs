@@ -1,0 +1,99 @@
+//! Two small checksums written here rather than pulled in as crates: FNV-1a (64 bit) for
+//! the content-derived GUID and the FMU-state checksum, and CRC-32 (IEEE, reflected
+//! polynomial 0xEDB88320) for the zip archive, which the zip format requires.
+
+/// FNV-1a 64-bit hash of `bytes`, continuing from `state` (start with [`FNV_OFFSET`]).
+pub fn fnv1a64(state: u64, bytes: &[u8]) -> u64 {
+    let mut h = state;
+    for &b in bytes {
+        h ^= u64::from(b);
+        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    h
+}
+
+/// FNV-1a 64-bit offset basis.
+pub const FNV_OFFSET: u64 = 0xcbf2_9ce4_8422_2325;
+
+const fn crc_table() -> [u32; 256] {
+    let mut table = [0u32; 256];
+    let mut n = 0;
+    while n < 256 {
+        let mut c = n as u32;
+        let mut k = 0;
+        while k < 8 {
+            c = if c & 1 != 0 {
+                0xEDB8_8320 ^ (c >> 1)
+            } else {
+                c >> 1
+            };
+            k += 1;
+        }
+        table[n] = c;
+        n += 1;
+    }
+    table
+}
+
+/// Byte-wise CRC-32 lookup table, computed at compile time (immutable).
+const CRC_TABLE: [u32; 256] = crc_table();
+
+/// CRC-32 (IEEE 802.3, as zip uses it) of `bytes`.
+pub fn crc32(bytes: &[u8]) -> u32 {
+    let mut c = 0xFFFF_FFFFu32;
+    for &b in bytes {
+        c = CRC_TABLE[((c ^ u32::from(b)) & 0xFF) as usize] ^ (c >> 8);
+    }
+    c ^ 0xFFFF_FFFF
+}
+
+/// A GUID-shaped text (`{8-4-4-4-12}` hex) derived from `parts`: two FNV-1a passes
+/// with different starting states give 128 bits. Same parts, same GUID.
+pub fn content_guid(parts: &[&[u8]]) -> String {
+    let mut a = FNV_OFFSET;
+    let mut b = fnv1a64(FNV_OFFSET, b"fxbody-guid-second-lane");
+    for p in parts {
+        // Length prefixes keep ("ab","c") and ("a","bc") apart.
+        let len = (p.len() as u64).to_le_bytes();
+        a = fnv1a64(fnv1a64(a, &len), p);
+        b = fnv1a64(fnv1a64(b, p), &len);
+    }
+    let x = format!("{a:016x}{b:016x}");
+    format!(
+        "{{{}-{}-{}-{}-{}}}",
+        &x[0..8],
+        &x[8..12],
+        &x[12..16],
+        &x[16..20],
+        &x[20..32]
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn crc32_matches_the_standard_check_value() {
+        // The CRC-32 catalogue's check value for the ASCII string "123456789".
+        assert_eq!(crc32(b"123456789"), 0xCBF4_3926);
+        assert_eq!(crc32(b""), 0);
+    }
+
+    #[test]
+    fn fnv1a_matches_published_vectors() {
+        // Published FNV-1a 64 test vectors (Fowler/Noll/Vo): "" and "a".
+        assert_eq!(fnv1a64(FNV_OFFSET, b""), 0xcbf2_9ce4_8422_2325);
+        assert_eq!(fnv1a64(FNV_OFFSET, b"a"), 0xaf63_dc4c_8601_ec8c);
+        assert_eq!(fnv1a64(FNV_OFFSET, b"foobar"), 0x8594_4171_f739_67e8);
+    }
+
+    #[test]
+    fn guid_depends_on_every_part_and_their_boundaries() {
+        let g = content_guid(&[b"ab", b"c"]);
+        assert_eq!(g.len(), 38);
+        assert_eq!(g, content_guid(&[b"ab", b"c"]));
+        assert_ne!(g, content_guid(&[b"a", b"bc"]));
+        assert_ne!(g, content_guid(&[b"ab", b"d"]));
+    }
+}

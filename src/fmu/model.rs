@@ -1,0 +1,463 @@
+//! The running model behind one FMU instance, in safe Rust: parameters, inputs, the
+//! solver, outputs by value reference, and snapshots for FMU state get/set. The C ABI
+//! in [`crate::fmi`] checks the call sequence and converts pointers; this file never
+//! sees a pointer.
+
+use std::path::Path;
+
+use super::scene_io::{Resources, load_resources};
+use super::snapshot::Snapshot;
+use super::vars::{Causality, Kind, VarTable, method_from_value, method_name};
+use crate::scene::Scene;
+use crate::solver::{self, Method, Options, Solver};
+
+/// When a value is set: before the end of initialisation parameters may change; after
+/// it only inputs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Phase {
+    /// Instantiated or initialisation mode.
+    Configuring,
+    /// Step complete.
+    Running,
+}
+
+/// One FMU instance's model.
+pub struct Model {
+    /// The variable table (same as the description's).
+    pub table: VarTable,
+    /// The GUID of the resources this model was read from.
+    pub guid: String,
+    scene: Scene,
+    method: Method,
+    opts: Options,
+    loads: Vec<f64>,
+    rates: Vec<f64>,
+    solver: Option<Box<dyn Solver>>,
+    /// Parameters changed since the solver was built.
+    dirty: bool,
+    /// Loads changed since they were last passed to the solver.
+    loads_dirty: bool,
+    /// The last step ran with nonzero input rates (the solver must be told they ended).
+    rates_applied: bool,
+    pos: Vec<f64>,
+    vel: Vec<f64>,
+    acc: Vec<f64>,
+    start_time: f64,
+    stop_time: Option<f64>,
+    time: f64,
+}
+
+/// Relative tolerance on the communication point a master passes to doStep.
+const TIME_TOL: f64 = 1e-9;
+
+impl Model {
+    /// Read the resources folder and set up a model at its start values.
+    pub fn from_resources(dir: &Path) -> Result<Model, String> {
+        let Resources { scene, guid, .. } = load_resources(dir)?;
+        Ok(Model::new(scene, guid))
+    }
+
+    /// A model for a scene at its start values.
+    pub fn new(scene: Scene, guid: String) -> Model {
+        let table = VarTable::new(&scene);
+        let m = scene.nodes.len();
+        Model {
+            method: table.default_method,
+            table,
+            guid,
+            opts: Options::default(),
+            loads: vec![0.0; 6 * m],
+            rates: vec![0.0; 6 * m],
+            solver: None,
+            dirty: true,
+            loads_dirty: true,
+            rates_applied: false,
+            pos: vec![0.0; 3 * m],
+            vel: vec![0.0; 3 * m],
+            acc: vec![0.0; 3 * m],
+            start_time: 0.0,
+            stop_time: None,
+            time: 0.0,
+            scene,
+        }
+    }
+
+    /// The scene.
+    pub fn scene(&self) -> &Scene {
+        &self.scene
+    }
+
+    /// Current time.
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+
+    /// The method in use.
+    pub fn method(&self) -> Method {
+        self.method
+    }
+
+    /// Record the experiment's start and stop time (fmi2SetupExperiment).
+    pub fn setup(&mut self, start: f64, stop: Option<f64>) -> Result<(), String> {
+        if !start.is_finite() {
+            return Err(format!("startTime must be finite, got {start}"));
+        }
+        if let Some(s) = stop
+            && (s.is_nan() || s < start)
+        {
+            return Err(format!("stopTime {s} is before startTime {start}"));
+        }
+        self.start_time = start;
+        self.stop_time = stop;
+        self.time = start;
+        Ok(())
+    }
+
+    /// Build the solver if none exists or a parameter changed. Returns a description
+    /// of what was built, for the solver log category.
+    pub fn ensure_solver(&mut self) -> Result<Option<String>, String> {
+        if self.solver.is_some() && !self.dirty {
+            return Ok(None);
+        }
+        let s = solver::build(&self.scene, self.method, &self.opts)
+            .map_err(|e| format!("cannot build the {} solver: {e}", method_name(self.method)))?;
+        self.solver = Some(s);
+        self.dirty = false;
+        self.loads_dirty = true;
+        self.rates_applied = true;
+        Ok(Some(format!(
+            "built the {} solver: {} local modes, {} exposed nodes, rho_inf {}",
+            method_name(self.method),
+            self.scene.body.nl(),
+            self.scene.nodes.len(),
+            self.opts.rho_inf
+        )))
+    }
+
+    fn var(&self, vr: u32) -> Result<&super::vars::Variable, String> {
+        self.table.get(vr).ok_or_else(|| {
+            format!(
+                "unknown value reference {vr} (this FMU has 0..{})",
+                self.table.vars.len()
+            )
+        })
+    }
+
+    /// Set a Real variable.
+    pub fn set_real(&mut self, vr: u32, v: f64, phase: Phase) -> Result<(), String> {
+        // No clone of the variable: this runs on every fmi2SetReal and must not allocate.
+        let var = self.var(vr)?;
+        if var.is_integer() {
+            return Err(format!(
+                "{} (vr {vr}) is an Enumeration: set it with fmi2SetInteger",
+                var.name
+            ));
+        }
+        check_settable(var, phase)?;
+        if !v.is_finite() {
+            return Err(format!("{}: value must be finite, got {v}", var.name));
+        }
+        match var.kind {
+            Kind::RhoInf => {
+                if !(0.0..=1.0).contains(&v) {
+                    return Err(format!("rho_inf must be in [0, 1], got {v}"));
+                }
+                self.opts.rho_inf = v;
+                self.dirty = true;
+            }
+            Kind::Gravity(c) => {
+                self.scene.gravity[c] = v;
+                self.dirty = true;
+            }
+            Kind::V0(c) => {
+                self.scene.v0[c] = v;
+                self.dirty = true;
+            }
+            Kind::W0(c) => {
+                self.scene.w0[c] = v;
+                self.dirty = true;
+            }
+            Kind::Load { node, comp } => {
+                let slot = &mut self.loads[6 * node + comp];
+                if slot.to_bits() != v.to_bits() {
+                    *slot = v;
+                    self.loads_dirty = true;
+                }
+            }
+            _ => unreachable!("check_settable refuses outputs"),
+        }
+        Ok(())
+    }
+
+    /// Set the Integer (Enumeration) variable `method`.
+    pub fn set_integer(&mut self, vr: u32, v: i32, phase: Phase) -> Result<(), String> {
+        let var = self.var(vr)?;
+        if !var.is_integer() {
+            return Err(format!(
+                "{} (vr {vr}) is a Real: set it with fmi2SetReal",
+                var.name
+            ));
+        }
+        check_settable(var, phase)?;
+        let Some(m) = method_from_value(v).filter(|m| self.table.methods().contains(m)) else {
+            let offered: Vec<String> = self
+                .table
+                .methods()
+                .iter()
+                .map(|&m| format!("{}={}", method_name(m), m as i32))
+                .collect();
+            return Err(format!(
+                "method: {v} is not offered for this body (offered: {})",
+                offered.join(", ")
+            ));
+        };
+        if m != self.method {
+            self.method = m;
+            self.dirty = true;
+        }
+        Ok(())
+    }
+
+    /// Get Real values for `vrs` into `out` (same length). Needs a solver.
+    pub fn get_reals(&mut self, vrs: &[u32], out: &mut [f64]) -> Result<(), String> {
+        self.ensure_solver()?;
+        let Some(s) = self.solver.as_ref() else {
+            return Err("no solver".into());
+        };
+        // Only what is asked for: a master polling one position pays for positions only.
+        let wants = |f: fn(&Kind) -> bool| {
+            vrs.iter()
+                .any(|&r| self.table.get(r).is_some_and(|v| f(&v.kind)))
+        };
+        if wants(|k| matches!(k, Kind::Position { .. })) {
+            s.positions(&mut self.pos);
+        }
+        if wants(|k| matches!(k, Kind::Velocity { .. })) {
+            s.velocities(&mut self.vel);
+        }
+        for (&vr, o) in vrs.iter().zip(out.iter_mut()) {
+            let Some(var) = self.table.get(vr) else {
+                return Err(format!(
+                    "unknown value reference {vr} (this FMU has 0..{})",
+                    self.table.vars.len()
+                ));
+            };
+            *o = match var.kind {
+                Kind::Method => {
+                    return Err(format!(
+                        "method (vr {vr}) is an Enumeration: get it with fmi2GetInteger"
+                    ));
+                }
+                Kind::RhoInf => self.opts.rho_inf,
+                Kind::Gravity(c) => self.scene.gravity[c],
+                Kind::V0(c) => self.scene.v0[c],
+                Kind::W0(c) => self.scene.w0[c],
+                Kind::Load { node, comp } => self.loads[6 * node + comp],
+                Kind::Position { node, comp } => self.pos[3 * node + comp],
+                Kind::Velocity { node, comp } => self.vel[3 * node + comp],
+                Kind::KineticEnergy => s.kinetic_energy(),
+                Kind::StrainEnergy => s.strain_energy(),
+                Kind::FrameOrigin(c) => s.frame().map_or(f64::NAN, |f| f.origin[c]),
+                Kind::FrameP(k) => s.frame().map_or(f64::NAN, |f| f.p[k]),
+            };
+        }
+        Ok(())
+    }
+
+    /// Get the Integer (Enumeration) `method`.
+    pub fn get_integer(&self, vr: u32) -> Result<i32, String> {
+        let var = self.var(vr)?;
+        if !var.is_integer() {
+            return Err(format!(
+                "{} (vr {vr}) is a Real: get it with fmi2GetReal",
+                var.name
+            ));
+        }
+        Ok(self.method as i32)
+    }
+
+    /// Set the time derivative of order 1 of an input (fmi2SetRealInputDerivatives).
+    /// It applies to the next step only: each doStep clears the rates.
+    pub fn set_input_rate(&mut self, vr: u32, order: i32, v: f64) -> Result<(), String> {
+        let var = self.var(vr)?;
+        let Kind::Load { node, comp } = var.kind else {
+            return Err(format!(
+                "{} is not an input: input derivatives apply to inputs only",
+                var.name
+            ));
+        };
+        if order != 1 {
+            return Err(format!(
+                "{}: derivative order {order} is not supported (inputs are interpolated linearly: order 1 only)",
+                var.name
+            ));
+        }
+        if !v.is_finite() {
+            return Err(format!("{}: derivative must be finite, got {v}", var.name));
+        }
+        self.rates[6 * node + comp] = v;
+        Ok(())
+    }
+
+    /// Derivative of order 1 or 2 of an output (fmi2GetRealOutputDerivatives): positions
+    /// give velocities and accelerations, velocities give accelerations (order 1).
+    pub fn get_output_derivative(&mut self, vr: u32, order: i32) -> Result<f64, String> {
+        let var = self.var(vr)?;
+        let (kind, name) = (var.kind, &var.name);
+        let Some(s) = self.solver.as_ref() else {
+            return Err("no solver".into());
+        };
+        match (kind, order) {
+            (Kind::Position { node, comp }, 1) => {
+                s.velocities(&mut self.vel);
+                Ok(self.vel[3 * node + comp])
+            }
+            (Kind::Position { node, comp }, 2) | (Kind::Velocity { node, comp }, 1) => {
+                s.accelerations(&mut self.acc);
+                Ok(self.acc[3 * node + comp])
+            }
+            _ => Err(format!(
+                "{name}: no derivative of order {order} (available: node positions orders 1 and 2, node velocities order 1)"
+            )),
+        }
+    }
+
+    /// One communication step from `t` to `t + h`.
+    pub fn do_step(&mut self, t: f64, h: f64) -> Result<(), String> {
+        if !(h.is_finite() && h > 0.0) {
+            return Err(format!(
+                "communicationStepSize must be finite and > 0, got {h}"
+            ));
+        }
+        let tol = TIME_TOL * t.abs().max(h).max(1e-300);
+        if (t - self.time).abs() > tol.max(1e-12 * self.time.abs()) {
+            return Err(format!(
+                "currentCommunicationPoint {t} is not the FMU's current time {}",
+                self.time
+            ));
+        }
+        if let Some(stop) = self.stop_time
+            && t + h > stop * (1.0 + 1e-12) + 1e-14
+        {
+            return Err(format!("the step to {} goes past stopTime {stop}", t + h));
+        }
+        self.ensure_solver()?;
+        let Some(s) = self.solver.as_mut() else {
+            return Err("no solver".into());
+        };
+        // Pass loads and rates only when they changed: both make the solver re-project
+        // the loads onto the modes.
+        let rates_on = self.rates.iter().any(|&r| r != 0.0);
+        if self.loads_dirty || self.rates_applied || rates_on {
+            s.set_loads(&self.loads).map_err(|e| e.to_string())?;
+        }
+        if rates_on || self.rates_applied {
+            s.set_load_rates(&self.rates).map_err(|e| e.to_string())?;
+        }
+        self.loads_dirty = false;
+        self.rates_applied = rates_on;
+        s.step(h)
+            .map_err(|e| format!("step from t = {t} with h = {h} failed: {e}"))?;
+        if rates_on {
+            self.rates.iter_mut().for_each(|r| *r = 0.0);
+        }
+        // Adopt the master's time so that round-off does not accumulate against it.
+        self.time = t + h;
+        Ok(())
+    }
+
+    /// Back to the state after instantiation (fmi2Reset).
+    pub fn reset(&mut self) {
+        let scene = {
+            let mut s = self.scene.clone();
+            s.gravity = [0.0; 3];
+            s.v0 = [0.0; 3];
+            s.w0 = [0.0; 3];
+            s
+        };
+        let guid = std::mem::take(&mut self.guid);
+        *self = Model::new(scene, guid);
+    }
+
+    /// A snapshot of everything that defines the future (FMU state).
+    pub fn snapshot(&self, phase: u8) -> Snapshot {
+        Snapshot {
+            phase,
+            method: self.method as i32,
+            rho_inf: self.opts.rho_inf,
+            gravity: self.scene.gravity,
+            v0: self.scene.v0,
+            w0: self.scene.w0,
+            start_time: self.start_time,
+            stop_time: self.stop_time,
+            time: self.time,
+            loads: self.loads.clone(),
+            rates: self.rates.clone(),
+            solver: if self.dirty {
+                None
+            } else {
+                self.solver.as_ref().map(|s| s.state())
+            },
+        }
+    }
+
+    /// Restore a snapshot taken from a model of the same scene.
+    pub fn restore(&mut self, snap: &Snapshot) -> Result<(), String> {
+        if snap.loads.len() != self.loads.len() || snap.rates.len() != self.rates.len() {
+            return Err(format!(
+                "state holds {} loads, this FMU has {}",
+                snap.loads.len(),
+                self.loads.len()
+            ));
+        }
+        let method = method_from_value(snap.method)
+            .filter(|m| self.table.methods().contains(m))
+            .ok_or_else(|| format!("state holds method {}, not offered here", snap.method))?;
+        let params_differ = method != self.method
+            || snap.rho_inf != self.opts.rho_inf
+            || snap.gravity != self.scene.gravity
+            || snap.v0 != self.scene.v0
+            || snap.w0 != self.scene.w0;
+        self.method = method;
+        self.opts.rho_inf = snap.rho_inf;
+        self.scene.gravity = snap.gravity;
+        self.scene.v0 = snap.v0;
+        self.scene.w0 = snap.w0;
+        if params_differ {
+            self.dirty = true;
+        }
+        self.start_time = snap.start_time;
+        self.stop_time = snap.stop_time;
+        self.time = snap.time;
+        self.loads.copy_from_slice(&snap.loads);
+        self.rates.copy_from_slice(&snap.rates);
+        self.loads_dirty = true;
+        self.rates_applied = true;
+        match &snap.solver {
+            Some(st) => {
+                self.ensure_solver()?;
+                if let Some(s) = self.solver.as_mut() {
+                    s.set_state(st).map_err(|e| e.to_string())?;
+                }
+            }
+            None => {
+                self.solver = None;
+                self.dirty = true;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Whether `var` may be set in `phase`: never an output, parameters only before the end
+/// of initialisation.
+fn check_settable(var: &super::vars::Variable, phase: Phase) -> Result<(), String> {
+    match (var.causality, phase) {
+        (Causality::Output, _) => Err(format!("{} is an output: it cannot be set", var.name)),
+        (Causality::Parameter, Phase::Running) => Err(format!(
+            "{} is a fixed parameter: set it before fmi2ExitInitializationMode",
+            var.name
+        )),
+        _ => Ok(()),
+    }
+}

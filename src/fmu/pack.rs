@@ -1,0 +1,244 @@
+//! `fxbody pack`: a body file, its coordinates and the options into an `.fmu` archive
+//! with modelDescription.xml, the library, resources/ and documentation/.
+
+use std::path::{Path, PathBuf};
+
+use super::doc::index_html;
+use super::options::{SceneOptions, UnitSystem};
+use super::scene_io::{
+    BODY_FILE, COORDS_FILE, OPTIONS_FILE, coords_csv, coords_from_rigid_modes, guid, make_scene,
+    summary,
+};
+use super::vars::VarTable;
+use super::xml::model_description;
+use super::zip::{Entry, write};
+use crate::body::Body;
+use crate::fxb::{self, coords};
+use crate::scene::Scene;
+
+/// Why packing failed (the message says what and where).
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
+pub struct PackError(pub String);
+
+/// What to pack.
+#[derive(Debug, Clone, Default)]
+pub struct PackRequest {
+    /// The `.fxb` file.
+    pub body: PathBuf,
+    /// A `/NODE` deck or CSV with node coordinates (required for blocked bodies).
+    pub coords: Option<PathBuf>,
+    /// Exposed node IDs (default: all nodes).
+    pub nodes: Option<Vec<i64>>,
+    /// Model name (default: the file stem).
+    pub name: Option<String>,
+    /// Unit system name (default: no units).
+    pub units: Option<String>,
+}
+
+/// A scene ready to be described or packed.
+pub struct Prepared {
+    /// The scene.
+    pub scene: Scene,
+    /// Its variables.
+    pub table: VarTable,
+    /// The options.
+    pub options: SceneOptions,
+    /// Content GUID.
+    pub guid: String,
+    /// The body file bytes as stored in resources/.
+    pub body_bytes: Vec<u8>,
+    /// resources/coords.csv.
+    pub coords_csv: String,
+    /// resources/scene.txt.
+    pub options_text: String,
+    /// modelDescription.xml.
+    pub xml: String,
+    /// Notes for the user (derived coordinates, body warnings).
+    pub notes: Vec<String>,
+}
+
+/// Read and check everything, and generate the description (no library needed).
+pub fn prepare(req: &PackRequest) -> Result<Prepared, PackError> {
+    let e = |s: String| PackError(s);
+    let body_name = req.body.display().to_string();
+    let body_bytes = std::fs::read(&req.body)
+        .map_err(|err| e(format!("{body_name}: cannot read the file: {err}")))?;
+    let file = fxb::parse(&body_bytes, &body_name).map_err(|err| e(err.to_string()))?;
+    let body = Body::from_fxb(&file, &body_name).map_err(|err| e(err.to_string()))?;
+    let mut notes: Vec<String> = body
+        .warnings
+        .iter()
+        .map(|w| format!("warning: {w}"))
+        .collect();
+    let xyz = match &req.coords {
+        Some(p) => coords::read_coords(p).map_err(|err| e(err.to_string()))?,
+        None => match coords_from_rigid_modes(&body) {
+            Some(c) => {
+                notes.push("no --coords: node coordinates derived from the rigid modes, frame origin L0 at (0, 0, 0)".into());
+                c
+            }
+            None => {
+                return Err(e(format!(
+                    "{body_name}: a blocked body needs node coordinates (a .fxb file holds none): \
+                     give --coords with a Radioss /NODE deck or a CSV file id,x,y,z"
+                )));
+            }
+        },
+    };
+    let map = coords::to_map(&xyz);
+    let nodes = req.nodes.clone().unwrap_or_else(|| body.node_ids.clone());
+    for id in &nodes {
+        if body.node_index(*id).is_none() {
+            return Err(e(format!(
+                "--nodes: node {id} is not a node of {body_name} (its nodes: {})",
+                summary(&body.node_ids)
+            )));
+        }
+    }
+    let missing: Vec<i64> = nodes
+        .iter()
+        .copied()
+        .filter(|id| !map.contains_key(id))
+        .collect();
+    if !missing.is_empty() {
+        return Err(e(format!(
+            "{}: no coordinates for node(s) {} of {body_name}",
+            req.coords
+                .as_ref()
+                .map_or("derived coordinates".to_string(), |p| p
+                    .display()
+                    .to_string()),
+            summary(&missing)
+        )));
+    }
+    let stem = req
+        .body
+        .file_stem()
+        .map_or("fxbody".to_string(), |s| s.to_string_lossy().into_owned());
+    let units = req
+        .units
+        .as_deref()
+        .map(UnitSystem::parse)
+        .transpose()
+        .map_err(e)?;
+    let options = SceneOptions {
+        name: req.name.clone().unwrap_or(stem),
+        nodes,
+        units,
+    };
+    // Only the body's own nodes, in body order: the stored file does not depend on how
+    // the user's coordinate file was ordered or what else it held.
+    let stored: Vec<(i64, [f64; 3])> = body
+        .node_ids
+        .iter()
+        .filter_map(|id| map.get(id).map(|x| (*id, *x)))
+        .collect();
+    let coords_text = coords_csv(&stored);
+    let options_text = options.to_text();
+    let guid = guid(&body_bytes, coords_text.as_bytes(), &options_text);
+    let scene = make_scene(body, &map, &options, &body_name).map_err(e)?;
+    let table = VarTable::new(&scene);
+    let xml = model_description(&scene, &table, &options, &guid);
+    Ok(Prepared {
+        scene,
+        table,
+        options,
+        guid,
+        body_bytes,
+        coords_csv: coords_text,
+        options_text,
+        xml,
+        notes,
+    })
+}
+
+/// Find the FMU library: `explicit`, else `$FXBODY_LIB`, else `libfxbody.so` next to the
+/// running executable (or one folder up, for test executables in `deps/`).
+pub fn find_library(explicit: Option<&Path>) -> Result<PathBuf, PackError> {
+    if let Some(p) = explicit {
+        return if p.is_file() {
+            Ok(p.to_path_buf())
+        } else {
+            Err(PackError(format!("--lib {}: no such file", p.display())))
+        };
+    }
+    if let Some(p) = std::env::var_os("FXBODY_LIB") {
+        let p = PathBuf::from(p);
+        return if p.is_file() {
+            Ok(p)
+        } else {
+            Err(PackError(format!(
+                "FXBODY_LIB={}: no such file",
+                p.display()
+            )))
+        };
+    }
+    let exe = std::env::current_exe()
+        .map_err(|err| PackError(format!("cannot locate the running executable: {err}")))?;
+    let mut tried = Vec::new();
+    let mut dir = exe.parent();
+    for _ in 0..2 {
+        let Some(d) = dir else { break };
+        let p = d.join("libfxbody.so");
+        if p.is_file() {
+            return Ok(p);
+        }
+        tried.push(p.display().to_string());
+        dir = d.parent();
+    }
+    Err(PackError(format!(
+        "cannot find the FMU library libfxbody.so (looked at {}): build it with `cargo build --release`, \
+         or give --lib PATH or FXBODY_LIB",
+        tried.join(", ")
+    )))
+}
+
+/// The archive bytes for a prepared scene and the library bytes.
+pub fn archive(p: &Prepared, lib: &[u8]) -> Result<Vec<u8>, PackError> {
+    let id = p.options.model_identifier();
+    let entries = vec![
+        Entry {
+            name: "modelDescription.xml".into(),
+            data: p.xml.clone().into_bytes(),
+            mode: 0o644,
+        },
+        Entry {
+            name: format!("binaries/linux64/{id}.so"),
+            data: lib.to_vec(),
+            mode: 0o755,
+        },
+        Entry {
+            name: format!("resources/{BODY_FILE}"),
+            data: p.body_bytes.clone(),
+            mode: 0o644,
+        },
+        Entry {
+            name: format!("resources/{COORDS_FILE}"),
+            data: p.coords_csv.clone().into_bytes(),
+            mode: 0o644,
+        },
+        Entry {
+            name: format!("resources/{OPTIONS_FILE}"),
+            data: p.options_text.clone().into_bytes(),
+            mode: 0o644,
+        },
+        Entry {
+            name: "documentation/index.html".into(),
+            data: index_html(&p.scene, &p.table, &p.options, &p.guid).into_bytes(),
+            mode: 0o644,
+        },
+    ];
+    write(&entries).map_err(PackError)
+}
+
+/// Pack `req` with the library at `lib` into `out`. Returns the prepared scene.
+pub fn pack(req: &PackRequest, lib: &Path, out: &Path) -> Result<Prepared, PackError> {
+    let p = prepare(req)?;
+    let lib_bytes = std::fs::read(lib)
+        .map_err(|err| PackError(format!("{}: cannot read the library: {err}", lib.display())))?;
+    let bytes = archive(&p, &lib_bytes)?;
+    std::fs::write(out, bytes)
+        .map_err(|err| PackError(format!("{}: cannot write the FMU: {err}", out.display())))?;
+    Ok(p)
+}

@@ -1,0 +1,301 @@
+//! modelDescription.xml from the variable table, the scene and the pack options. Element
+//! order follows the FMI 2.0 schema (CoSimulation, UnitDefinitions, TypeDefinitions,
+//! LogCategories, DefaultExperiment, ModelVariables, ModelStructure); no time stamp, so
+//! the same input gives the same bytes.
+
+use std::fmt::Write;
+
+use super::options::{SceneOptions, UnitSystem};
+use super::vars::{Causality, Kind, Quantity, VarTable, method_name};
+use crate::scene::Scene;
+
+/// Log categories the FMU declares, with descriptions; the FMI layer uses the same list.
+pub const LOG_CATEGORIES: [(&str, &str); 4] = [
+    (
+        "logStatusError",
+        "Errors: illegal calls, bad arguments, failed steps (always on)",
+    ),
+    ("logStatusWarning", "Warnings (always on)"),
+    ("logCalls", "Each FMI call with its arguments"),
+    ("logSolver", "Solver set-up: method, modes, step sizes"),
+];
+
+/// Escape text for an XML attribute value.
+pub fn escape(s: &str) -> String {
+    let mut out = String::with_capacity(s.len());
+    for c in s.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&apos;"),
+            '\n' => out.push_str("&#10;"),
+            '\r' => out.push_str("&#13;"),
+            '\t' => out.push_str("&#9;"),
+            // Other control characters are not allowed in XML 1.0 at all.
+            c if (c as u32) < 0x20 => out.push(' '),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+/// A real as the shortest text that reads back to the same f64.
+pub fn real(v: f64) -> String {
+    format!("{v:?}")
+}
+
+/// Default experiment `(stop time, step size)`.
+///
+/// Step: at most 1 ms, and at least 20 samples per period of the lowest flexible mode, so
+/// that its motion is resolved through sampled exchange (a master interpolating linearly
+/// between samples then sees it within about 1%), rounded down to 1, 2 or 5 times a power
+/// of ten. Any step is stable for every method (the explicit one sub-cycles internally at
+/// 0.9 of its stable step), so the step is about what the exchange can resolve.
+/// Stop: five periods of the lowest flexible mode (rounded up likewise), or 1 s when the
+/// body has no flexible mode.
+pub fn default_experiment(scene: &Scene) -> (f64, f64) {
+    let f1 = scene
+        .body
+        .frequencies_hz
+        .iter()
+        .copied()
+        .find(|&f| f > 1e-6);
+    match f1 {
+        Some(f1) => (
+            nice(5.0 / f1, true),
+            nice((1.0 / (20.0 * f1)).min(1e-3), false),
+        ),
+        None => (1.0, 1e-3),
+    }
+}
+
+/// Round to 1, 2 or 5 times a power of ten, up or down.
+fn nice(v: f64, up: bool) -> f64 {
+    let e = v.log10().floor();
+    let base = 10f64.powf(e);
+    let m = v / base;
+    let steps = [1.0, 2.0, 5.0, 10.0];
+    let pick = if up {
+        steps
+            .iter()
+            .copied()
+            .find(|&s| s >= m * (1.0 - 1e-12))
+            .unwrap_or(10.0)
+    } else {
+        steps
+            .iter()
+            .rev()
+            .copied()
+            .find(|&s| s <= m * (1.0 + 1e-12))
+            .unwrap_or(1.0)
+    };
+    // Format through text so that 0.001 is exactly the double nearest 1e-3.
+    format!("{pick}e{e}").parse().unwrap_or(v)
+}
+
+/// Unit name of a quantity in a unit system, with its SI base-unit exponents
+/// (kg, m, s) and factor to SI.
+fn unit(q: Quantity, u: UnitSystem) -> Option<(&'static str, [i32; 3], f64)> {
+    use Quantity::*;
+    use UnitSystem::*;
+    Some(match (q, u) {
+        (None, _) => return Option::None,
+        (Force, _) => ("N", [1, 1, -2], 1.0),
+        (Moment, Si) => ("N.m", [1, 2, -2], 1.0),
+        (Moment, MmTonneS) => ("N.mm", [1, 2, -2], 1e-3),
+        (Length, Si) => ("m", [0, 1, 0], 1.0),
+        (Length, MmTonneS) => ("mm", [0, 1, 0], 1e-3),
+        (Velocity, Si) => ("m/s", [0, 1, -1], 1.0),
+        (Velocity, MmTonneS) => ("mm/s", [0, 1, -1], 1e-3),
+        (Acceleration, Si) => ("m/s2", [0, 1, -2], 1.0),
+        (Acceleration, MmTonneS) => ("mm/s2", [0, 1, -2], 1e-3),
+        (AngularVelocity, _) => ("rad/s", [0, 0, -1], 1.0),
+        (Energy, Si) => ("J", [1, 2, -2], 1.0),
+        (Energy, MmTonneS) => ("mJ", [1, 2, -2], 1e-3),
+    })
+}
+
+/// The complete modelDescription.xml text.
+pub fn model_description(
+    scene: &Scene,
+    table: &VarTable,
+    opts: &SceneOptions,
+    guid: &str,
+) -> String {
+    let mut x = String::new();
+    let body = &scene.body;
+    let kind = if table.free { "free" } else { "blocked" };
+    let description = format!(
+        "Radioss flexible body ({kind}, {} nodes, {} local modes, {} exposed nodes), by fxbody",
+        body.nnodes(),
+        body.nl(),
+        scene.nodes.len()
+    );
+    x.push_str("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
+    let _ = writeln!(
+        x,
+        "<fmiModelDescription fmiVersion=\"2.0\" modelName=\"{}\" guid=\"{}\" description=\"{}\" \
+         generationTool=\"fxbody {}\" variableNamingConvention=\"structured\" numberOfEventIndicators=\"0\">",
+        escape(&opts.name),
+        escape(guid),
+        escape(&description),
+        env!("CARGO_PKG_VERSION")
+    );
+    let _ = writeln!(
+        x,
+        "  <CoSimulation modelIdentifier=\"{}\" canHandleVariableCommunicationStepSize=\"true\" \
+         canInterpolateInputs=\"true\" maxOutputDerivativeOrder=\"2\" canGetAndSetFMUstate=\"true\" \
+         canSerializeFMUstate=\"true\" providesDirectionalDerivative=\"false\" \
+         canNotUseMemoryManagementFunctions=\"true\"/>",
+        escape(&opts.model_identifier())
+    );
+    if let Some(u) = opts.units {
+        let mut seen: Vec<&str> = Vec::new();
+        x.push_str("  <UnitDefinitions>\n");
+        for v in &table.vars {
+            if let Some((name, [kg, m, s], factor)) = unit(v.quantity, u) {
+                if seen.contains(&name) {
+                    continue;
+                }
+                seen.push(name);
+                let mut base = String::new();
+                for (k, e) in [("kg", kg), ("m", m), ("s", s)] {
+                    if e != 0 {
+                        let _ = write!(base, " {k}=\"{e}\"");
+                    }
+                }
+                if name == "rad/s" {
+                    base.push_str(" rad=\"1\"");
+                }
+                if factor != 1.0 {
+                    let _ = write!(base, " factor=\"{}\"", real(factor));
+                }
+                let _ = writeln!(
+                    x,
+                    "    <Unit name=\"{}\">\n      <BaseUnit{base}/>\n    </Unit>",
+                    escape(name)
+                );
+            }
+        }
+        x.push_str("  </UnitDefinitions>\n");
+    }
+    x.push_str("  <TypeDefinitions>\n    <SimpleType name=\"Method\">\n      <Enumeration>\n");
+    for &m in table.methods() {
+        let what = match m {
+            crate::solver::Method::Explicit => {
+                "Radioss central difference, sub-cycled at 0.9 of the stable step"
+            }
+            crate::solver::Method::Implicit => "generalised-alpha (Chung-Hulbert), any step",
+            crate::solver::Method::Exact => "exact modal stepping (blocked bodies)",
+        };
+        let _ = writeln!(
+            x,
+            "        <Item name=\"{}\" value=\"{}\" description=\"{}\"/>",
+            method_name(m),
+            m as i32,
+            escape(what)
+        );
+    }
+    x.push_str("      </Enumeration>\n    </SimpleType>\n  </TypeDefinitions>\n");
+    x.push_str("  <LogCategories>\n");
+    for (name, desc) in LOG_CATEGORIES {
+        let _ = writeln!(
+            x,
+            "    <Category name=\"{name}\" description=\"{}\"/>",
+            escape(desc)
+        );
+    }
+    x.push_str("  </LogCategories>\n");
+    let (stop, step) = default_experiment(scene);
+    let _ = writeln!(
+        x,
+        "  <DefaultExperiment startTime=\"0.0\" stopTime=\"{}\" stepSize=\"{}\"/>",
+        real(stop),
+        real(step)
+    );
+    x.push_str("  <ModelVariables>\n");
+    for (i, v) in table.vars.iter().enumerate() {
+        let (causality, variability, initial) = match v.causality {
+            Causality::Parameter => ("parameter", "fixed", " initial=\"exact\""),
+            Causality::Input => ("input", "continuous", ""),
+            Causality::Output => ("output", "continuous", " initial=\"calculated\""),
+        };
+        let _ = writeln!(
+            x,
+            "    <!-- Index {} -->\n    <ScalarVariable name=\"{}\" valueReference=\"{}\" description=\"{}\" \
+             causality=\"{causality}\" variability=\"{variability}\"{initial}>",
+            i + 1,
+            escape(&v.name),
+            v.vr,
+            escape(&v.description)
+        );
+        if v.kind == Kind::Method {
+            let _ = writeln!(
+                x,
+                "      <Enumeration declaredType=\"Method\" start=\"{}\"/>",
+                table.default_method as i32
+            );
+        } else {
+            let mut attrs = String::new();
+            if let Some(u) = opts.units.and_then(|u| unit(v.quantity, u)) {
+                let _ = write!(attrs, " unit=\"{}\"", escape(u.0));
+            }
+            if let Some(s) = v.start {
+                let _ = write!(attrs, " start=\"{}\"", real(s));
+            }
+            let _ = writeln!(x, "      <Real{attrs}/>");
+        }
+        x.push_str("    </ScalarVariable>\n");
+    }
+    x.push_str("  </ModelVariables>\n  <ModelStructure>\n    <Outputs>\n");
+    let outputs: Vec<usize> = (0..table.vars.len())
+        .filter(|&i| table.vars[i].causality == Causality::Output)
+        .collect();
+    for &i in &outputs {
+        // No output depends on an input at the same instant: positions, velocities,
+        // energies and the frame are states of the second-order system.
+        let _ = writeln!(x, "      <Unknown index=\"{}\" dependencies=\"\"/>", i + 1);
+    }
+    x.push_str("    </Outputs>\n    <InitialUnknowns>\n");
+    for &i in &outputs {
+        let deps: Vec<String> = table
+            .vars
+            .iter()
+            .enumerate()
+            .filter(|(_, p)| table.initial_dependency(&table.vars[i], p))
+            .map(|(j, _)| (j + 1).to_string())
+            .collect();
+        let _ = writeln!(
+            x,
+            "      <Unknown index=\"{}\" dependencies=\"{}\"/>",
+            i + 1,
+            deps.join(" ")
+        );
+    }
+    x.push_str("    </InitialUnknowns>\n  </ModelStructure>\n</fmiModelDescription>\n");
+    x
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn escape_covers_markup_and_quotes() {
+        assert_eq!(
+            escape("a<b & \"c\" 'd'>\n"),
+            "a&lt;b &amp; &quot;c&quot; &apos;d&apos;&gt;&#10;"
+        );
+    }
+
+    #[test]
+    fn nice_rounds_to_one_two_five() {
+        assert_eq!(nice(0.0037, false), 0.002);
+        assert_eq!(nice(0.0037, true), 0.005);
+        assert_eq!(nice(0.001, false), 0.001);
+        assert_eq!(nice(7.3, true), 10.0);
+        assert_eq!(nice(0.25, false), 0.2);
+    }
+}

@@ -1,0 +1,152 @@
+//! A store-only zip writer (no compression): local headers, central directory, end
+//! record, CRC-32 from [`super::hash`]. Every entry gets the same fixed time stamp
+//! (1980-01-01 00:00, the format's epoch), so equal contents give equal archives. About
+//! sixty lines, which is why no zip crate is used.
+
+use super::hash::crc32;
+
+/// One archive member.
+pub struct Entry {
+    /// Path inside the archive, `/`-separated.
+    pub name: String,
+    /// Contents.
+    pub data: Vec<u8>,
+    /// Unix mode bits (0o644, 0o755).
+    pub mode: u32,
+}
+
+/// The archive bytes for `entries`, in the given order. Fails when an entry or the
+/// archive exceeds the 4 GiB limits of the classic format.
+pub fn write(entries: &[Entry]) -> Result<Vec<u8>, String> {
+    let mut out = Vec::new();
+    let mut central = Vec::new();
+    // 1980-01-01: year offset 0 (bits 9..16), month 1 (bits 5..9), day 1.
+    const DOS_DATE: u16 = (1 << 5) | 1;
+    const DOS_TIME: u16 = 0;
+    for e in entries {
+        let size = u32::try_from(e.data.len())
+            .map_err(|_| format!("zip: {} is larger than 4 GiB", e.name))?;
+        let offset =
+            u32::try_from(out.len()).map_err(|_| "zip: archive larger than 4 GiB".to_string())?;
+        let name = e.name.as_bytes();
+        let crc = crc32(&e.data);
+        // Local file header.
+        out.extend_from_slice(&0x0403_4b50u32.to_le_bytes());
+        out.extend_from_slice(&20u16.to_le_bytes()); // version needed
+        out.extend_from_slice(&0x0800u16.to_le_bytes()); // UTF-8 names
+        out.extend_from_slice(&0u16.to_le_bytes()); // stored
+        out.extend_from_slice(&DOS_TIME.to_le_bytes());
+        out.extend_from_slice(&DOS_DATE.to_le_bytes());
+        out.extend_from_slice(&crc.to_le_bytes());
+        out.extend_from_slice(&size.to_le_bytes());
+        out.extend_from_slice(&size.to_le_bytes());
+        out.extend_from_slice(&(name.len() as u16).to_le_bytes());
+        out.extend_from_slice(&0u16.to_le_bytes());
+        out.extend_from_slice(name);
+        out.extend_from_slice(&e.data);
+        // Central directory record.
+        central.extend_from_slice(&0x0201_4b50u32.to_le_bytes());
+        central.extend_from_slice(&(0x0300u16 | 20).to_le_bytes()); // made by Unix, 2.0
+        central.extend_from_slice(&20u16.to_le_bytes());
+        central.extend_from_slice(&0x0800u16.to_le_bytes());
+        central.extend_from_slice(&0u16.to_le_bytes());
+        central.extend_from_slice(&DOS_TIME.to_le_bytes());
+        central.extend_from_slice(&DOS_DATE.to_le_bytes());
+        central.extend_from_slice(&crc.to_le_bytes());
+        central.extend_from_slice(&size.to_le_bytes());
+        central.extend_from_slice(&size.to_le_bytes());
+        central.extend_from_slice(&(name.len() as u16).to_le_bytes());
+        central.extend_from_slice(&[0; 8]); // extra, comment, disk, internal attributes
+        central.extend_from_slice(&((0o100000 | e.mode) << 16).to_le_bytes());
+        central.extend_from_slice(&offset.to_le_bytes());
+        central.extend_from_slice(name);
+    }
+    let cd_offset =
+        u32::try_from(out.len()).map_err(|_| "zip: archive larger than 4 GiB".to_string())?;
+    let count = u16::try_from(entries.len()).map_err(|_| "zip: too many entries".to_string())?;
+    out.extend_from_slice(&central);
+    out.extend_from_slice(&0x0605_4b50u32.to_le_bytes());
+    out.extend_from_slice(&[0; 4]); // disk numbers
+    out.extend_from_slice(&count.to_le_bytes());
+    out.extend_from_slice(&count.to_le_bytes());
+    out.extend_from_slice(&(central.len() as u32).to_le_bytes());
+    out.extend_from_slice(&cd_offset.to_le_bytes());
+    out.extend_from_slice(&0u16.to_le_bytes());
+    Ok(out)
+}
+
+/// Read back a store-only archive written by [`write`] (or any archive of stored
+/// members): `(name, data)` in order, with every CRC checked. Used by the tests and by
+/// `demo` to unpack an FMU without a zip crate.
+pub fn read(bytes: &[u8]) -> Result<Vec<(String, Vec<u8>)>, String> {
+    let u16_at = |p: usize| -> Result<u16, String> {
+        bytes
+            .get(p..p + 2)
+            .map(|b| u16::from_le_bytes([b[0], b[1]]))
+            .ok_or("zip: truncated".to_string())
+    };
+    let u32_at = |p: usize| -> Result<u32, String> {
+        bytes
+            .get(p..p + 4)
+            .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+            .ok_or("zip: truncated".to_string())
+    };
+    let mut out = Vec::new();
+    let mut p = 0;
+    while u32_at(p).is_ok_and(|sig| sig == 0x0403_4b50) {
+        let method = u16_at(p + 8)?;
+        let crc = u32_at(p + 14)?;
+        let size = u32_at(p + 18)? as usize;
+        let nlen = u16_at(p + 26)? as usize;
+        let xlen = u16_at(p + 28)? as usize;
+        if method != 0 {
+            return Err(format!(
+                "zip: member at offset {p} is compressed (method {method}); only stored members are read"
+            ));
+        }
+        let name = bytes
+            .get(p + 30..p + 30 + nlen)
+            .ok_or("zip: truncated name")?;
+        let start = p + 30 + nlen + xlen;
+        let data = bytes
+            .get(start..start + size)
+            .ok_or("zip: truncated data")?;
+        let name = String::from_utf8_lossy(name).into_owned();
+        if crc32(data) != crc {
+            return Err(format!("zip: CRC mismatch in {name}"));
+        }
+        out.push((name, data.to_vec()));
+        p = start + size;
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn archive_round_trips_and_is_deterministic() {
+        let entries = vec![
+            Entry {
+                name: "a.txt".into(),
+                data: b"hello".to_vec(),
+                mode: 0o644,
+            },
+            Entry {
+                name: "d/b.bin".into(),
+                data: vec![0, 1, 2, 255],
+                mode: 0o755,
+            },
+        ];
+        let z = write(&entries).unwrap();
+        assert_eq!(z, write(&entries).unwrap());
+        let back = read(&z).unwrap();
+        assert_eq!(back[0], ("a.txt".to_string(), b"hello".to_vec()));
+        assert_eq!(back[1].1, vec![0, 1, 2, 255]);
+        // End record: 2 entries, central directory right after the data.
+        let n = z.len();
+        assert_eq!(&z[n - 22..n - 18], &[0x50, 0x4b, 0x05, 0x06]);
+        assert_eq!(u16::from_le_bytes([z[n - 12], z[n - 11]]), 2);
+    }
+}

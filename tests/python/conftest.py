@@ -1,0 +1,49 @@
+"""Shared fixtures for the FMU tests: pack the shipped bodies with target/release/fxbody
+(scripts/test.sh builds it first) into a temporary folder, and read their references."""
+
+import json
+import pathlib
+import subprocess
+
+import pytest
+
+REPO = pathlib.Path(__file__).resolve().parents[2]
+FIXTURES = REPO / "fixtures"
+EXE = REPO / "target" / "release" / "fxbody"
+BODIES = ["cantilever", "cantilever_damped", "freefree", "truss"]
+
+
+def pack_fmu(out_dir, body, *extra, name=None):
+    """Pack fixtures/<body>.fxb with its /NODE deck; returns the .fmu path."""
+    if not EXE.is_file():
+        pytest.fail(f"{EXE} is missing: run `cargo build --release` first (scripts/test.sh does)")
+    out = pathlib.Path(out_dir) / f"{name or body}.fmu"
+    cmd = [str(EXE), "pack", str(FIXTURES / f"{body}.fxb"), "--coords",
+           str(FIXTURES / f"{body}.nodes.rad"), "-o", str(out), *extra]
+    run = subprocess.run(cmd, capture_output=True, text=True)
+    assert run.returncode == 0, f"{' '.join(cmd)} failed: {run.stderr}"
+    return out
+
+
+def reference(body):
+    """The fixture's full-FE reference (fixtures/<body>.ref.json)."""
+    return json.loads((FIXTURES / f"{body}.ref.json").read_text())
+
+
+@pytest.fixture(scope="session")
+def fmu_dir(tmp_path_factory):
+    return tmp_path_factory.mktemp("fmus")
+
+
+@pytest.fixture(scope="session")
+def packed(fmu_dir):
+    """Every shipped body packed with default options (all nodes exposed)."""
+    return {b: pack_fmu(fmu_dir, b) for b in BODIES if (FIXTURES / f"{b}.fxb").is_file()}
+
+
+@pytest.fixture(scope="session")
+def cantilever_tip(fmu_dir):
+    """The cantilever with only its tip node exposed, and the reference."""
+    ref = reference("cantilever")
+    tip = ref["tip_node"]
+    return pack_fmu(fmu_dir, "cantilever", "--nodes", str(tip), name="cantilever_tip"), ref
