@@ -1,5 +1,6 @@
 //! Pasted output of tests/reference/free_hand_step.py (numpy hand computation of two
-//! explicit steps on a three-node free body). Do not edit by hand: rerun the script.
+//! explicit steps on a three-node free body: cases A, B, C, Irot 0 and 1). Do not edit
+//! by hand: rerun the script and paste its output below this header.
 
 // ---- NOROT body (irot = False)
 pub mod norot {

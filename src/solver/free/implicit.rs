@@ -37,6 +37,10 @@ use crate::solver::{Frame, Method, Options, Solver, SolverError, State};
 const TOL_CONSTRAINT: f64 = 1e-13;
 /// Newton tolerance on the relative acceleration update.
 const TOL_ACC: f64 = 1e-11;
+/// Newton tolerance on the position update `|dx| h^2 beta'`, relative to the coordinates
+/// (at least the unit frame edges). A slender body (tiny torsional inertia) has a
+/// round-off floor near 1e-10 in the relative acceleration update, which this accepts.
+const TOL_POS: f64 = 1e-14;
 /// Largest number of Newton iterations before a step is split.
 const MAX_ITER: usize = 40;
 /// Largest spectral radius accepted for free bodies. At exactly 1 (trapezoidal rule,
@@ -368,9 +372,11 @@ impl Implicit {
             if !dmax.is_finite() {
                 break;
             }
-            // Converged when the update is negligible (relative to the accelerations and
-            // to the position resolution of the step) and the frame constraints hold.
-            let small = dmax <= TOL_ACC * xmax || dmax * bt <= 1e-15;
+            // Converged when the update is negligible (relative to the accelerations, or
+            // as a position change: near round-off of the coordinates, whatever the
+            // conditioning of the body) and the frame constraints hold.
+            let qscale = self.q.amax().max(1.0);
+            let small = dmax <= TOL_ACC * xmax || dmax * bt <= TOL_POS * qscale;
             if small && cmax <= TOL_CONSTRAINT {
                 converged = true;
                 break;
