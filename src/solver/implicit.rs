@@ -69,7 +69,12 @@ pub struct Implicit {
     rhs: DVector<f64>,
     w: DVector<f64>,
     cache_h: [f64; 2],
-    cache: [DMatrix<f64>; 2],
+    /// `S^-1` for the step sizes in `cache_h`.
+    inv: [DMatrix<f64>; 2],
+    /// Factorisation workspace.
+    chol: DMatrix<f64>,
+    /// Solution workspace (the new acceleration).
+    a1: DVector<f64>,
     next_slot: usize,
 }
 
@@ -101,7 +106,9 @@ impl Implicit {
             rhs: DVector::zeros(nl),
             w: DVector::zeros(nl),
             cache_h: [f64::NAN; 2],
-            cache: [DMatrix::zeros(nl, nl), DMatrix::zeros(nl, nl)],
+            inv: [DMatrix::zeros(nl, nl), DMatrix::zeros(nl, nl)],
+            chol: DMatrix::zeros(nl, nl),
+            a1: DVector::zeros(nl),
             next_slot: 0,
         })
     }
@@ -128,7 +135,7 @@ impl Implicit {
         let p = self.p;
         let cm = (1.0 - p.am) + (1.0 - p.af) * p.gamma * h * self.ra;
         let ck = (1.0 - p.af) * (p.gamma * h * self.rb + p.beta * h * h);
-        let s = &mut self.cache[slot];
+        let s = &mut self.chol;
         s.copy_from(&self.k);
         s.scale_mut(ck);
         for i in 0..self.m.len() {
@@ -140,6 +147,13 @@ impl Implicit {
                 "generalised-alpha matrix not positive definite at column {col} for step {h}"
             ))
         })?;
+        // Columns of S^-1: solve for the unit vectors, in the preallocated a1.
+        for j in 0..self.m.len() {
+            self.a1.fill(0.0);
+            self.a1[j] = 1.0;
+            cholesky_solve(&self.chol, &mut self.a1);
+            self.inv[slot].set_column(j, &self.a1);
+        }
         self.cache_h[slot] = h;
         Ok(slot)
     }
@@ -200,14 +214,14 @@ impl Solver for Implicit {
             *r -= m * (am * a + ra * u);
         }
         self.rhs.gemv(-1.0, &self.k, &self.w, 1.0);
-        cholesky_solve(&self.cache[slot], &mut self.rhs);
+        self.a1.gemv(1.0, &self.inv[slot], &self.rhs, 0.0);
         let (h2, bb, g) = (h * h, p.beta, p.gamma);
         for (((q, v), a), &a1) in self
             .q
             .iter_mut()
             .zip(self.v.iter_mut())
             .zip(self.a.iter_mut())
-            .zip(self.rhs.iter())
+            .zip(self.a1.iter())
         {
             let a0 = *a;
             *q += h * *v + h2 * ((0.5 - bb) * a0 + bb * a1);
