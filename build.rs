@@ -19,6 +19,8 @@ fn main() {
         // part of the C interface.
         .with_src(crate_dir.join("src/fmi/types.rs"))
         .with_src(crate_dir.join("src/fmi/exports.rs"))
+        .with_src(crate_dir.join("src/fmi/values.rs"))
+        .with_src(crate_dir.join("src/fmi/fmu_state.rs"))
         .with_config(config)
         .generate()
     {

@@ -102,14 +102,19 @@ typedef struct {
 typedef double fmi2Real;
 
 /*
- A value reference.
+ What fmi2Get*Status asks about.
  */
-typedef unsigned int fmi2ValueReference;
+typedef int fmi2StatusKind;
 
 /*
  An integer.
  */
 typedef int fmi2Integer;
+
+/*
+ A value reference.
+ */
+typedef unsigned int fmi2ValueReference;
 
 /*
  A saved FMU state handle (opaque).
@@ -120,11 +125,6 @@ typedef void *fmi2FMUstate;
  A byte of a serialised state.
  */
 typedef char fmi2Byte;
-
-/*
- What fmi2Get*Status asks about.
- */
-typedef int fmi2StatusKind;
 
 /*
  All well.
@@ -290,6 +290,65 @@ fmi2Status fmi2Terminate(fmi2Component c);
 fmi2Status fmi2Reset(fmi2Component c);
 
 /*
+ Advance from `currentCommunicationPoint` by `communicationStepSize` (synchronous).
+
+ # Safety
+ `c` is an instance from fmi2Instantiate.
+ */
+fmi2Status fmi2DoStep(fmi2Component c,
+                      fmi2Real currentCommunicationPoint,
+                      fmi2Real communicationStepSize,
+                      fmi2Boolean noSetFMUStatePriorToCurrentPoint);
+
+/*
+ Only legal while an asynchronous step runs, which never happens here.
+
+ # Safety
+ `c` is an instance from fmi2Instantiate.
+ */
+fmi2Status fmi2CancelStep(fmi2Component c);
+
+/*
+ Status of an asynchronous step: none ever runs, so fmi2Discard.
+
+ # Safety
+ `c` is an instance; `value` is writable.
+ */
+fmi2Status fmi2GetStatus(fmi2Component c, fmi2StatusKind s, fmi2Status *value);
+
+/*
+ fmi2LastSuccessfulTime: the current time; other kinds fmi2Discard.
+
+ # Safety
+ `c` is an instance; `value` is writable.
+ */
+fmi2Status fmi2GetRealStatus(fmi2Component c, fmi2StatusKind s, fmi2Real *value);
+
+/*
+ No Integer status kinds: fmi2Discard.
+
+ # Safety
+ `c` is an instance.
+ */
+fmi2Status fmi2GetIntegerStatus(fmi2Component c, fmi2StatusKind s, fmi2Integer *value);
+
+/*
+ fmi2Terminated: false (the slave never asks to stop); other kinds fmi2Discard.
+
+ # Safety
+ `c` is an instance; `value` is writable.
+ */
+fmi2Status fmi2GetBooleanStatus(fmi2Component c, fmi2StatusKind s, fmi2Boolean *value);
+
+/*
+ No pending step, so no text: fmi2Discard.
+
+ # Safety
+ `c` is an instance.
+ */
+fmi2Status fmi2GetStringStatus(fmi2Component c, fmi2StatusKind s, fmi2String *value);
+
+/*
  Get Real variables.
 
  # Safety
@@ -375,6 +434,44 @@ fmi2Status fmi2SetString(fmi2Component c,
                          const fmi2String *value);
 
 /*
+ Not provided (providesDirectionalDerivative="false"): logs why, returns fmi2Error.
+
+ # Safety
+ `c` is an instance.
+ */
+fmi2Status fmi2GetDirectionalDerivative(fmi2Component c,
+                                        const fmi2ValueReference *vUnknown_ref,
+                                        size_t nUnknown,
+                                        const fmi2ValueReference *vKnown_ref,
+                                        size_t nKnown,
+                                        const fmi2Real *dvKnown,
+                                        fmi2Real *dvUnknown);
+
+/*
+ Input time derivatives (order 1): the load varies linearly over the next step.
+
+ # Safety
+ `c` is an instance; `vr`, `order`, `value` hold `nvr` elements.
+ */
+fmi2Status fmi2SetRealInputDerivatives(fmi2Component c,
+                                       const fmi2ValueReference *vr,
+                                       size_t nvr,
+                                       const fmi2Integer *order,
+                                       const fmi2Real *value);
+
+/*
+ Output time derivatives: node positions (orders 1, 2), node velocities (order 1).
+
+ # Safety
+ `c` is an instance; `vr`, `order`, `value` hold `nvr` elements.
+ */
+fmi2Status fmi2GetRealOutputDerivatives(fmi2Component c,
+                                        const fmi2ValueReference *vr,
+                                        size_t nvr,
+                                        const fmi2Integer *order,
+                                        fmi2Real *value);
+
+/*
  Save the complete state (solver, inputs, time, FMI phase). A non-NULL `*state`
  from an earlier call is overwritten in place.
 
@@ -431,103 +528,6 @@ fmi2Status fmi2DeSerializeFMUstate(fmi2Component c,
                                    const fmi2Byte *serializedState,
                                    size_t size,
                                    fmi2FMUstate *state);
-
-/*
- Not provided (providesDirectionalDerivative="false"): logs why, returns fmi2Error.
-
- # Safety
- `c` is an instance.
- */
-fmi2Status fmi2GetDirectionalDerivative(fmi2Component c,
-                                        const fmi2ValueReference *vUnknown_ref,
-                                        size_t nUnknown,
-                                        const fmi2ValueReference *vKnown_ref,
-                                        size_t nKnown,
-                                        const fmi2Real *dvKnown,
-                                        fmi2Real *dvUnknown);
-
-/*
- Input time derivatives (order 1): the load varies linearly over the next step.
-
- # Safety
- `c` is an instance; `vr`, `order`, `value` hold `nvr` elements.
- */
-fmi2Status fmi2SetRealInputDerivatives(fmi2Component c,
-                                       const fmi2ValueReference *vr,
-                                       size_t nvr,
-                                       const fmi2Integer *order,
-                                       const fmi2Real *value);
-
-/*
- Output time derivatives: node positions (orders 1, 2), node velocities (order 1).
-
- # Safety
- `c` is an instance; `vr`, `order`, `value` hold `nvr` elements.
- */
-fmi2Status fmi2GetRealOutputDerivatives(fmi2Component c,
-                                        const fmi2ValueReference *vr,
-                                        size_t nvr,
-                                        const fmi2Integer *order,
-                                        fmi2Real *value);
-
-/*
- Advance from `currentCommunicationPoint` by `communicationStepSize` (synchronous).
-
- # Safety
- `c` is an instance from fmi2Instantiate.
- */
-fmi2Status fmi2DoStep(fmi2Component c,
-                      fmi2Real currentCommunicationPoint,
-                      fmi2Real communicationStepSize,
-                      fmi2Boolean noSetFMUStatePriorToCurrentPoint);
-
-/*
- Only legal while an asynchronous step runs, which never happens here.
-
- # Safety
- `c` is an instance from fmi2Instantiate.
- */
-fmi2Status fmi2CancelStep(fmi2Component c);
-
-/*
- Status of an asynchronous step: none ever runs, so fmi2Discard.
-
- # Safety
- `c` is an instance; `value` is writable.
- */
-fmi2Status fmi2GetStatus(fmi2Component c, fmi2StatusKind s, fmi2Status *value);
-
-/*
- fmi2LastSuccessfulTime: the current time; other kinds fmi2Discard.
-
- # Safety
- `c` is an instance; `value` is writable.
- */
-fmi2Status fmi2GetRealStatus(fmi2Component c, fmi2StatusKind s, fmi2Real *value);
-
-/*
- No Integer status kinds: fmi2Discard.
-
- # Safety
- `c` is an instance.
- */
-fmi2Status fmi2GetIntegerStatus(fmi2Component c, fmi2StatusKind s, fmi2Integer *value);
-
-/*
- fmi2Terminated: false (the slave never asks to stop); other kinds fmi2Discard.
-
- # Safety
- `c` is an instance; `value` is writable.
- */
-fmi2Status fmi2GetBooleanStatus(fmi2Component c, fmi2StatusKind s, fmi2Boolean *value);
-
-/*
- No pending step, so no text: fmi2Discard.
-
- # Safety
- `c` is an instance.
- */
-fmi2Status fmi2GetStringStatus(fmi2Component c, fmi2StatusKind s, fmi2String *value);
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -209,6 +209,89 @@ pub unsafe fn slice_mut<'a, T>(p: *mut T, n: usize, what: &str) -> Result<&'a mu
 mod tests {
     use super::*;
 
+    use crate::fmu::options::SceneOptions;
+    use crate::fmu::scene_io::make_scene;
+
+    fn instance() -> Box<Instance> {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let body = crate::fxb::load_body(&root.join("fixtures/cantilever.fxb")).unwrap();
+        let xyz = std::collections::HashMap::from([(121, [1.0, 0.0, 0.0])]);
+        let opts = SceneOptions {
+            name: "t".into(),
+            nodes: vec![121],
+            units: None,
+        };
+        let scene = make_scene(body, &xyz, &opts, "cantilever").unwrap();
+        let callbacks = fmi2CallbackFunctions {
+            logger: None,
+            allocateMemory: None,
+            freeMemory: None,
+            stepFinished: None,
+            componentEnvironment: std::ptr::null_mut(),
+        };
+        Box::new(Instance {
+            log: Log::new(&callbacks, "t", false),
+            state: FmiState::Instantiated,
+            model: Model::new(scene, "{g}".into()),
+        })
+    }
+
+    #[test]
+    fn a_panic_becomes_fatal_and_the_instance_stays_fatal() {
+        let raw = Box::into_raw(instance());
+        let c: fmi2Component = raw.cast();
+        let all = u16::MAX;
+        assert_eq!(enter(c, "fmi2Test", all, |_| Ok(fmi2OK)), fmi2OK);
+        assert_eq!(
+            enter(c, "fmi2Test", all & !FmiState::Fatal.bit(), |_| panic!(
+                "boom"
+            )),
+            fmi2Fatal
+        );
+        // SAFETY: `raw` is the live box created above.
+        assert_eq!(unsafe { (*raw).state }, FmiState::Fatal);
+        // Fatal: every masked call is illegal now, and it stays Fatal.
+        let mut ran = false;
+        assert_eq!(
+            enter(c, "fmi2Test", all & !FmiState::Fatal.bit(), |_| {
+                ran = true;
+                Ok(fmi2OK)
+            }),
+            fmi2Error
+        );
+        assert!(!ran);
+        // SAFETY: as above; freed once.
+        let back = unsafe { Box::from_raw(raw) };
+        assert_eq!(back.state, FmiState::Fatal);
+        assert_eq!(
+            enter(std::ptr::null_mut(), "fmi2Test", all, |_| Ok(fmi2OK)),
+            fmi2Error
+        );
+    }
+
+    #[test]
+    fn an_error_or_an_illegal_call_moves_to_the_error_state() {
+        let raw = Box::into_raw(instance());
+        let c: fmi2Component = raw.cast();
+        assert_eq!(
+            enter(c, "fmi2Test", FmiState::Instantiated.bit(), |_| Err(
+                "bad".into()
+            )),
+            fmi2Error
+        );
+        // SAFETY: `raw` is the live box created above.
+        assert_eq!(unsafe { (*raw).state }, FmiState::Error);
+        // SAFETY: as above.
+        unsafe { (*raw).state = FmiState::Instantiated };
+        assert_eq!(
+            enter(c, "fmi2Test", FmiState::StepComplete.bit(), |_| Ok(fmi2OK)),
+            fmi2Error
+        );
+        // SAFETY: as above; freed once.
+        let back = unsafe { Box::from_raw(raw) };
+        assert_eq!(back.state, FmiState::Error);
+    }
+
     #[test]
     fn categories_match_the_description() {
         let names: Vec<&str> = CATEGORIES.iter().map(|c| c.to_str().unwrap()).collect();

@@ -4,11 +4,13 @@
 //! pointers.
 
 pub mod exports;
+pub mod fmu_state;
 pub mod host;
 pub mod instance;
 pub mod state;
 pub mod types;
 pub mod uri;
+pub mod values;
 
 /// The C header cbindgen generated for this build (build.rs). The committed
 /// `include/fxbody.h` must equal it; `tests/fmi_header.rs` checks.

@@ -301,3 +301,31 @@ def test_output_derivatives_are_velocity_and_acceleration(tip):
     assert abs(fd) > 1.0
     assert abs(acc - fd) <= 1e-3 * abs(fd), (acc, fd)
     s.free()
+
+
+def test_log_text_with_percent_signs_arrives_verbatim(tip, tmp_path, capsys):
+    """Messages go through the variadic logger as ("%s", text): a folder named with
+    '%20' and '%s' must appear literally in the GUID-mismatch message, not be expanded."""
+    fmu, _, _ = tip
+    odd = tmp_path / "pct %20 %s %n folder"
+    unz = extract(str(fmu), str(odd))
+    bad = Slave(fmu, unz, guid="{wrong}")
+    with pytest.raises(Exception):
+        bad.s.instantiate()
+    out = capsys.readouterr().out
+    assert "pct %20 %s %n folder" in out, out
+
+
+def test_debug_logging_categories_switch_on_and_off(tip, capsys):
+    fmu, unz, ref = tip
+    s = Slave(fmu, unz).start()
+    capsys.readouterr()
+    s.s.doStep(0.0, H)
+    assert "fmi2DoStep" not in capsys.readouterr().out
+    s.s.setDebugLogging(True, ["logCalls"])
+    s.s.doStep(H, H)
+    assert "fmi2DoStep" in capsys.readouterr().out
+    s.s.setDebugLogging(False, [])
+    s.s.doStep(2 * H, H)
+    assert "fmi2DoStep" not in capsys.readouterr().out
+    s.free()

@@ -1,0 +1,286 @@
+//! The value exports: fmi2Get/Set{Real,Integer,Boolean,String}, the input and output
+//! derivatives, and fmi2GetDirectionalDerivative (not provided). Pointer arrays become
+//! slices here; the model in [`crate::fmu::model`] checks what may be set or read.
+
+#![allow(non_snake_case, clippy::missing_safety_doc)]
+
+use super::instance::*;
+use super::state::{self, FmiState};
+use super::types::*;
+use crate::fmu::model::Phase;
+
+fn phase(s: FmiState) -> Phase {
+    match s {
+        FmiState::Instantiated | FmiState::InitializationMode => Phase::Configuring,
+        _ => Phase::Running,
+    }
+}
+
+/// Get Real variables.
+///
+/// # Safety
+/// `c` is an instance; `vr` and `value` hold `nvr` elements.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2GetReal(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *mut fmi2Real,
+) -> fmi2Status {
+    enter(c, "fmi2GetReal", state::GET, |inst| {
+        // SAFETY: `vr` holds `nvr` value references (FMI contract).
+        let vrs = unsafe { slice(vr, nvr, "vr") }?;
+        // SAFETY: `value` holds `nvr` writable reals, distinct from `vr`.
+        let out = unsafe { slice_mut(value, nvr, "value") }?;
+        inst.model.get_reals(vrs, out)?;
+        Ok(fmi2OK)
+    })
+}
+
+/// Get Integer variables (the Enumeration `method`).
+///
+/// # Safety
+/// `c` is an instance; `vr` and `value` hold `nvr` elements.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2GetInteger(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *mut fmi2Integer,
+) -> fmi2Status {
+    enter(c, "fmi2GetInteger", state::GET, |inst| {
+        // SAFETY: `vr` holds `nvr` value references.
+        let vrs = unsafe { slice(vr, nvr, "vr") }?;
+        // SAFETY: `value` holds `nvr` writable integers.
+        let out = unsafe { slice_mut(value, nvr, "value") }?;
+        for (&r, o) in vrs.iter().zip(out.iter_mut()) {
+            *o = inst.model.get_integer(r)?;
+        }
+        Ok(fmi2OK)
+    })
+}
+
+fn no_variables(kind: &str, vrs: &[fmi2ValueReference]) -> Outcome {
+    match vrs.first() {
+        None => Ok(fmi2OK),
+        Some(r) => Err(format!(
+            "value reference {r}: this FMU has no {kind} variables"
+        )),
+    }
+}
+
+/// Get Boolean variables (there are none).
+///
+/// # Safety
+/// `c` is an instance; `vr` holds `nvr` elements.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2GetBoolean(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *mut fmi2Boolean,
+) -> fmi2Status {
+    let _ = value; // not needed by this FMU
+    enter(c, "fmi2GetBoolean", state::GET, |_| {
+        // SAFETY: `vr` holds `nvr` value references.
+        no_variables("Boolean", unsafe { slice(vr, nvr, "vr") }?)
+    })
+}
+
+/// Get String variables (there are none).
+///
+/// # Safety
+/// `c` is an instance; `vr` holds `nvr` elements.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2GetString(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *mut fmi2String,
+) -> fmi2Status {
+    let _ = value; // not needed by this FMU
+    enter(c, "fmi2GetString", state::GET, |_| {
+        // SAFETY: `vr` holds `nvr` value references.
+        no_variables("String", unsafe { slice(vr, nvr, "vr") }?)
+    })
+}
+
+/// Set Real variables (parameters before initialisation ends, inputs at any time).
+///
+/// # Safety
+/// `c` is an instance; `vr` and `value` hold `nvr` elements.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2SetReal(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *const fmi2Real,
+) -> fmi2Status {
+    enter(c, "fmi2SetReal", state::SET, |inst| {
+        // SAFETY: `vr` holds `nvr` value references.
+        let vrs = unsafe { slice(vr, nvr, "vr") }?;
+        // SAFETY: `value` holds `nvr` reals.
+        let vals = unsafe { slice(value, nvr, "value") }?;
+        let ph = phase(inst.state);
+        for (&r, &v) in vrs.iter().zip(vals) {
+            inst.model.set_real(r, v, ph)?;
+        }
+        Ok(fmi2OK)
+    })
+}
+
+/// Set Integer variables (the Enumeration `method`).
+///
+/// # Safety
+/// `c` is an instance; `vr` and `value` hold `nvr` elements.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2SetInteger(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *const fmi2Integer,
+) -> fmi2Status {
+    enter(c, "fmi2SetInteger", state::SET, |inst| {
+        // SAFETY: `vr` holds `nvr` value references.
+        let vrs = unsafe { slice(vr, nvr, "vr") }?;
+        // SAFETY: `value` holds `nvr` integers.
+        let vals = unsafe { slice(value, nvr, "value") }?;
+        let ph = phase(inst.state);
+        for (&r, &v) in vrs.iter().zip(vals) {
+            inst.model.set_integer(r, v, ph)?;
+        }
+        Ok(fmi2OK)
+    })
+}
+
+/// Set Boolean variables (there are none).
+///
+/// # Safety
+/// `c` is an instance; `vr` holds `nvr` elements.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2SetBoolean(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *const fmi2Boolean,
+) -> fmi2Status {
+    let _ = value; // not needed by this FMU
+    enter(c, "fmi2SetBoolean", state::SET, |_| {
+        // SAFETY: `vr` holds `nvr` value references.
+        no_variables("Boolean", unsafe { slice(vr, nvr, "vr") }?)
+    })
+}
+
+/// Set String variables (there are none).
+///
+/// # Safety
+/// `c` is an instance; `vr` holds `nvr` elements.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2SetString(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *const fmi2String,
+) -> fmi2Status {
+    let _ = value; // not needed by this FMU
+    enter(c, "fmi2SetString", state::SET, |_| {
+        // SAFETY: `vr` holds `nvr` value references.
+        no_variables("String", unsafe { slice(vr, nvr, "vr") }?)
+    })
+}
+
+/// Not provided (providesDirectionalDerivative="false"): logs why, returns fmi2Error.
+///
+/// # Safety
+/// `c` is an instance.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2GetDirectionalDerivative(
+    c: fmi2Component,
+    vUnknown_ref: *const fmi2ValueReference,
+    nUnknown: usize,
+    vKnown_ref: *const fmi2ValueReference,
+    nKnown: usize,
+    dvKnown: *const fmi2Real,
+    dvUnknown: *mut fmi2Real,
+) -> fmi2Status {
+    let _ = (
+        vUnknown_ref,
+        nUnknown,
+        vKnown_ref,
+        nKnown,
+        dvKnown,
+        dvUnknown,
+    ); // not needed by this FMU
+    enter(
+        c,
+        "fmi2GetDirectionalDerivative",
+        state::GET_DIRECTIONAL_DERIVATIVE,
+        |_| Err("not provided by this FMU (providesDirectionalDerivative=\"false\")".into()),
+    )
+}
+
+/// Input time derivatives (order 1): the load varies linearly over the next step.
+///
+/// # Safety
+/// `c` is an instance; `vr`, `order`, `value` hold `nvr` elements.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2SetRealInputDerivatives(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    order: *const fmi2Integer,
+    value: *const fmi2Real,
+) -> fmi2Status {
+    enter(
+        c,
+        "fmi2SetRealInputDerivatives",
+        state::SET_REAL_INPUT_DERIVATIVES,
+        |inst| {
+            // SAFETY: each array holds `nvr` elements (FMI contract).
+            let (vrs, ords, vals) = unsafe {
+                (
+                    slice(vr, nvr, "vr")?,
+                    slice(order, nvr, "order")?,
+                    slice(value, nvr, "value")?,
+                )
+            };
+            for ((&r, &o), &v) in vrs.iter().zip(ords).zip(vals) {
+                inst.model.set_input_rate(r, o, v)?;
+            }
+            Ok(fmi2OK)
+        },
+    )
+}
+
+/// Output time derivatives: node positions (orders 1, 2), node velocities (order 1).
+///
+/// # Safety
+/// `c` is an instance; `vr`, `order`, `value` hold `nvr` elements.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn fmi2GetRealOutputDerivatives(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    order: *const fmi2Integer,
+    value: *mut fmi2Real,
+) -> fmi2Status {
+    enter(
+        c,
+        "fmi2GetRealOutputDerivatives",
+        state::GET_REAL_OUTPUT_DERIVATIVES,
+        |inst| {
+            // SAFETY: each array holds `nvr` elements; `value` is writable and distinct.
+            let (vrs, ords, out) = unsafe {
+                (
+                    slice(vr, nvr, "vr")?,
+                    slice(order, nvr, "order")?,
+                    slice_mut(value, nvr, "value")?,
+                )
+            };
+            for ((&r, &o), v) in vrs.iter().zip(ords).zip(out.iter_mut()) {
+                *v = inst.model.get_output_derivative(r, o)?;
+            }
+            Ok(fmi2OK)
+        },
+    )
+}
