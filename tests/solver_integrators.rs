@@ -366,3 +366,55 @@ fn a_body_without_modes_stays_put_and_bad_scenes_are_refused() {
     };
     assert!(build(&one, Method::Explicit, &o).is_err());
 }
+
+#[test]
+fn implicit_static_limit_on_both_solve_paths() {
+    // Large steps with numerical dissipation settle on the static solution K^-1 F_L,
+    // computed here independently with nalgebra's LU from the body's matrices; 20 modes
+    // use the stored inverse, 140 modes the Cholesky factor (INVERSE_MAX_MODES = 128).
+    // Tolerance 1e-8 relative to the largest displacement.
+    use fxbody::solver::implicit::INVERSE_MAX_MODES;
+    use nalgebra::{DMatrix, DVector};
+    for nl in [20, 140] {
+        assert_eq!(nl <= INVERSE_MAX_MODES, nl == 20);
+        let scene = random_scene(nl, 3, 1, 9, Some((50.0, 1e-4)));
+        let body = &scene.body;
+        let load = [1.0, -0.5, 2.0, 0.3, 0.1, -0.2];
+        // F_L = Phi^T P0^T [f; m] at the exposed node (FORMULATION.md section 2).
+        let rows = scene.exposed_rows(&body.phi_l);
+        let mut fl = DVector::zeros(nl);
+        let mut pt = DMatrix::zeros(3, nl);
+        for j in 0..nl {
+            for c in 0..3 {
+                let mut t = 0.0;
+                let mut r = 0.0;
+                for l in 0..3 {
+                    t += body.p0[(c, l)] * rows[(l, j)];
+                    r += body.p0[(c, l)] * rows[(3 + l, j)];
+                }
+                pt[(c, j)] = t;
+                fl[j] += load[c] * t + load[3 + c] * r;
+            }
+        }
+        let q = body.k_l.clone().lu().solve(&fl).unwrap();
+        let want = &pt * &q;
+        let opts = Options {
+            rho_inf: 0.0,
+            ..Options::default()
+        };
+        let mut s = build(&scene, Method::Implicit, &opts).unwrap();
+        s.set_loads(&load).unwrap();
+        for _ in 0..200 {
+            s.step(10.0).unwrap();
+        }
+        let mut p = [0.0; 3];
+        s.positions(&mut p);
+        let big = want.amax();
+        let err = (0..3)
+            .map(|c| (p[c] - scene.x0[0][c] - want[c]).abs())
+            .fold(0.0, f64::max)
+            / big;
+        println!("{nl} modes: static error {err:.2e}");
+        assert!(err < 1e-8, "{nl} modes: {err:e}");
+    }
+}

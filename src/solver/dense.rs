@@ -3,9 +3,10 @@
 
 use nalgebra::{DMatrix, DVector};
 
-/// Factorise the symmetric positive definite `a` in place: on return its lower triangle
-/// holds L with `a = L L^T` (the strict upper triangle is left as it was). Fails with
-/// the column whose pivot is not positive.
+/// Factorise the symmetric positive definite `a` in place: on return its strict lower
+/// triangle holds L with `a = L L^T` and its diagonal holds `1 / L_jj` (so the solve
+/// multiplies instead of dividing on its critical path); the strict upper triangle is
+/// left as it was. Fails with the column whose pivot is not positive.
 pub fn cholesky_in_place(a: &mut DMatrix<f64>) -> Result<(), usize> {
     let n = a.nrows();
     for j in 0..n {
@@ -16,14 +17,14 @@ pub fn cholesky_in_place(a: &mut DMatrix<f64>) -> Result<(), usize> {
         if d <= 0.0 || !d.is_finite() {
             return Err(j);
         }
-        let d = d.sqrt();
-        a[(j, j)] = d;
+        let inv = 1.0 / d.sqrt();
+        a[(j, j)] = inv;
         for i in j + 1..n {
             let mut s = a[(i, j)];
             for k in 0..j {
                 s -= a[(i, k)] * a[(j, k)];
             }
-            a[(i, j)] = s / d;
+            a[(i, j)] = s * inv;
         }
     }
     Ok(())
@@ -34,19 +35,20 @@ pub fn cholesky_solve(l: &DMatrix<f64>, b: &mut DVector<f64>) {
     let n = l.nrows();
     let s = l.as_slice();
     // Forward: L y = b; column-oriented so that the inner loop runs down a column.
+    let b = b.as_mut_slice();
     for j in 0..n {
-        let yj = b[j] / s[j * n + j];
+        let yj = b[j] * s[j * n + j];
         b[j] = yj;
         let col = &s[j * n + j + 1..(j + 1) * n];
-        for (bi, &lij) in b.as_mut_slice()[j + 1..].iter_mut().zip(col) {
+        for (bi, &lij) in b[j + 1..].iter_mut().zip(col) {
             *bi -= lij * yj;
         }
     }
     // Backward: L^T x = y; row i of L^T is column i of L.
     for i in (0..n).rev() {
         let col = &s[i * n + i + 1..(i + 1) * n];
-        let t = b[i] - dot(col, &b.as_slice()[i + 1..]);
-        b[i] = t / s[i * n + i];
+        let t = b[i] - dot(col, &b[i + 1..]);
+        b[i] = t * s[i * n + i];
     }
 }
 

@@ -179,7 +179,13 @@ impl Solver for Explicit {
             1.0
         };
         if n > MAX_SUBSTEPS {
-            return Err(SolverError::BadStep(h));
+            return Err(SolverError::Unsupported {
+                method: Method::Explicit,
+                why: format!(
+                    "a step of {h} s needs {n:e} internal steps of at most {:e} s (limit {MAX_SUBSTEPS:e})",
+                    self.dt_max
+                ),
+            });
         }
         let n = n as usize;
         let dt2 = h / n as f64;

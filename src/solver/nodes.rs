@@ -11,20 +11,20 @@ use crate::scene::Scene;
 /// Exposed-node rows of a mode basis in the global frame, and the caller's load.
 ///
 /// For a basis `B` (`nL x nb`: the identity for the physical coordinates, or the modal
-/// basis of the exact method), `g` holds `[P0 Phi_trans(n); P0 Phi_rot(n)] B` for each
-/// exposed node n (6 rows per node), so that the generalised load is `g^T [f; m]`
-/// (FORMULATION.md section 2 with P = P0) and the displacement of node n is the
-/// translation rows times the coordinates.
+/// basis of the exact method), `g` holds `P0 Phi_trans(n) B` for every exposed node n
+/// (rows `3k..3k+3`), then `P0 Phi_rot(n) B` for every node (rows `3m+3k..`), so that the
+/// generalised load is `g^T` times the loads regrouped as all forces then all moments
+/// (FORMULATION.md section 2 with P = P0), and the outputs use the two halves of `g`
+/// directly (one copy of the rows, which matters for cache use on large scenes).
 #[derive(Debug, Clone)]
 pub struct Exposed {
     /// Number of exposed nodes m.
     pub nodes: usize,
-    /// `6m x nb`: load projection rows.
+    /// `6m x nb`: global translation rows of all exposed nodes, then their rotation rows
+    /// (zero for nodes without rotational DOFs).
     pub g: DMatrix<f64>,
-    /// `3m x nb`: global translation rows.
-    pub gt: DMatrix<f64>,
-    /// `3m x nb`: global rotation rows (zero for nodes without rotational DOFs).
-    pub gr: DMatrix<f64>,
+    /// Workspace: loads regrouped as forces then moments.
+    regrouped: DVector<f64>,
     /// Initial global coordinates, 3 per exposed node.
     pub x0: DVector<f64>,
     /// Loads as set by the caller (6 per node), the value at `t_set`.
@@ -61,8 +61,6 @@ impl Exposed {
         let nb = basis.ncols();
         let rows = scene.exposed_rows(&body.phi_l) * basis;
         let mut g = DMatrix::zeros(6 * m, nb);
-        let mut gt = DMatrix::zeros(3 * m, nb);
-        let mut gr = DMatrix::zeros(3 * m, nb);
         for (k, &node) in scene.nodes.iter().enumerate() {
             let rot = body.node_has_rotation(node);
             for j in 0..nb {
@@ -76,10 +74,8 @@ impl Exposed {
                     if !rot {
                         r = 0.0;
                     }
-                    g[(6 * k + c, j)] = t;
-                    g[(6 * k + 3 + c, j)] = r;
-                    gt[(3 * k + c, j)] = t;
-                    gr[(3 * k + c, j)] = r;
+                    g[(3 * k + c, j)] = t;
+                    g[(3 * m + 3 * k + c, j)] = r;
                 }
             }
         }
@@ -87,8 +83,7 @@ impl Exposed {
         Ok(Exposed {
             nodes: m,
             g,
-            gt,
-            gr,
+            regrouped: DVector::zeros(6 * m),
             x0,
             loads: DVector::zeros(6 * m),
             rates: DVector::zeros(6 * m),
@@ -119,7 +114,7 @@ impl Exposed {
         self.check_len("loads", loads)?;
         self.loads.copy_from_slice(loads);
         self.t_set = now;
-        self.f.gemv_tr(1.0, &self.g, &self.loads, 0.0);
+        self.project_loads();
         Ok(())
     }
 
@@ -129,11 +124,34 @@ impl Exposed {
         self.check_len("load rates", rates)?;
         let dt = now - self.t_set;
         self.loads.axpy(dt, &self.rates, 1.0);
-        self.f.gemv_tr(1.0, &self.g, &self.loads, 0.0);
+        self.project_loads();
         self.t_set = now;
         self.rates.copy_from_slice(rates);
-        self.fd.gemv_tr(1.0, &self.g, &self.rates, 0.0);
+        self.project_rates();
         Ok(())
+    }
+
+    /// Regroup per-node `[f; m]` values as all forces, then all moments.
+    fn regroup(src: &DVector<f64>, dst: &mut DVector<f64>) {
+        let m = src.len() / 6;
+        for k in 0..m {
+            for c in 0..3 {
+                dst[3 * k + c] = src[6 * k + c];
+                dst[3 * m + 3 * k + c] = src[6 * k + 3 + c];
+            }
+        }
+    }
+
+    /// `f = g^T loads`.
+    fn project_loads(&mut self) {
+        Self::regroup(&self.loads, &mut self.regrouped);
+        self.f.gemv_tr(1.0, &self.g, &self.regrouped, 0.0);
+    }
+
+    /// `fd = g^T rates`.
+    fn project_rates(&mut self) {
+        Self::regroup(&self.rates, &mut self.regrouped);
+        self.fd.gemv_tr(1.0, &self.g, &self.regrouped, 0.0);
     }
 
     /// Generalised load component `i` at time `t`.
@@ -150,27 +168,27 @@ impl Exposed {
         }
     }
 
-    /// Node positions `x0 + gt c` for coordinates `c`. A short `out` gets the first
+    /// Node positions `x0 + g_trans c` for coordinates `c`. A short `out` gets the first
     /// values only (the contract is 3 per exposed node).
     pub fn positions(&self, c: &DVector<f64>, out: &mut [f64]) {
         let n = out.len().min(3 * self.nodes);
         let mut o = DVectorViewMut::from_slice(&mut out[..n], n);
         o.copy_from(&self.x0.rows(0, n));
-        o.gemv(1.0, &self.gt.rows(0, n), c, 1.0);
+        o.gemv(1.0, &self.g.rows(0, n), c, 1.0);
     }
 
     /// Translation rows times `c` (velocities or accelerations).
     pub fn translations(&self, c: &DVector<f64>, out: &mut [f64]) {
         let n = out.len().min(3 * self.nodes);
         let mut o = DVectorViewMut::from_slice(&mut out[..n], n);
-        o.gemv(1.0, &self.gt.rows(0, n), c, 0.0);
+        o.gemv(1.0, &self.g.rows(0, n), c, 0.0);
     }
 
     /// Rotation rows times `c` (rotation rates from modal velocities).
     pub fn rotations(&self, c: &DVector<f64>, out: &mut [f64]) {
         let n = out.len().min(3 * self.nodes);
         let mut o = DVectorViewMut::from_slice(&mut out[..n], n);
-        o.gemv(1.0, &self.gr.rows(0, n), c, 0.0);
+        o.gemv(1.0, &self.g.rows(3 * self.nodes, n), c, 0.0);
     }
 
     /// Length of the saved load part: `t_set`, loads, rates.
@@ -191,8 +209,8 @@ impl Exposed {
         self.t_set = data[0];
         self.loads.copy_from_slice(&data[1..1 + m6]);
         self.rates.copy_from_slice(&data[1 + m6..1 + 2 * m6]);
-        self.f.gemv_tr(1.0, &self.g, &self.loads, 0.0);
-        self.fd.gemv_tr(1.0, &self.g, &self.rates, 0.0);
+        self.project_loads();
+        self.project_rates();
     }
 }
 
