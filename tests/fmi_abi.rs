@@ -160,3 +160,42 @@ fn a_state_saved_before_initialisation_restores_that_phase() {
     assert!(e.contains("method: 7 is not offered"), "{e}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn steps_stop_at_a_defined_stop_time_and_need_positive_sizes() {
+    let dir = std::env::temp_dir().join(format!("fxbody_abi_stop_{}", std::process::id()));
+    let (p, so) = packed(&dir);
+    let lib = FmuLibrary::open(&so).unwrap();
+    let inst = lib
+        .instantiate("stop", &p.guid, &file_uri(&dir.join("resources")), false)
+        .unwrap();
+    inst.setup(0.5, Some(0.5 + 10.0 * 1e-4)).unwrap();
+    inst.enter_init().unwrap();
+    inst.exit_init().unwrap();
+    // The first step must start at startTime.
+    assert!(
+        inst.do_step(0.0, 1e-4)
+            .unwrap_err()
+            .contains("is not the FMU's current time 0.5")
+    );
+    let inst = lib
+        .instantiate("stop2", &p.guid, &file_uri(&dir.join("resources")), false)
+        .unwrap();
+    inst.setup(0.5, Some(0.5 + 10.0 * 1e-4)).unwrap();
+    inst.enter_init().unwrap();
+    inst.exit_init().unwrap();
+    for k in 0..10 {
+        inst.do_step(0.5 + k as f64 * 1e-4, 1e-4).unwrap();
+    }
+    let e = inst.do_step(0.5 + 10.0 * 1e-4, 1e-4).unwrap_err();
+    assert!(e.contains("goes past stopTime"), "{e}");
+    let inst = lib
+        .instantiate("neg", &p.guid, &file_uri(&dir.join("resources")), false)
+        .unwrap();
+    inst.setup(0.0, None).unwrap();
+    inst.enter_init().unwrap();
+    inst.exit_init().unwrap();
+    let e = inst.do_step(0.0, -1e-4).unwrap_err();
+    assert!(e.contains("must be finite and > 0"), "{e}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -213,3 +213,67 @@ fn pack_errors_are_clear() {
     .to_string();
     assert!(e.contains("unknown unit system 'furlongs'"), "{e}");
 }
+
+#[test]
+fn pack_command_reports_errors_with_exit_code_2() {
+    let exe = env!("CARGO_BIN_EXE_fxbody");
+    let run = |args: &[&str]| std::process::Command::new(exe).args(args).output().unwrap();
+    let body = root().join("fixtures/cantilever.fxb");
+    let deck = root().join("fixtures/cantilever.nodes.rad");
+    let (b, d) = (body.to_str().unwrap(), deck.to_str().unwrap());
+    let lib = std::env::current_exe().unwrap();
+    let l = lib.to_str().unwrap();
+    for (args, want) in [
+        (
+            vec![
+                "pack",
+                b,
+                "--coords",
+                d,
+                "--nodes",
+                "121,5",
+                "--lib",
+                l,
+                "-o",
+                "/tmp/never.fmu",
+            ],
+            "node 5 is not a node of",
+        ),
+        (
+            vec!["pack", b, "--lib", l, "-o", "/tmp/never.fmu"],
+            "needs node coordinates",
+        ),
+        (
+            vec![
+                "pack",
+                b,
+                "--coords",
+                d,
+                "--lib",
+                l,
+                "-o",
+                "/nonexistent/x.fmu",
+            ],
+            "cannot write the FMU",
+        ),
+        (
+            vec![
+                "pack",
+                b,
+                "--coords",
+                d,
+                "--lib",
+                "/nonexistent/lib.so",
+                "-o",
+                "/tmp/never.fmu",
+            ],
+            "--lib /nonexistent/lib.so: no such file",
+        ),
+    ] {
+        let out = run(&args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert!(err.contains(want), "{args:?}: {err}");
+    }
+    assert!(!Path::new("/tmp/never.fmu").exists());
+}
