@@ -7,38 +7,10 @@ import shutil
 
 import numpy as np
 import pytest
-from fmpy import extract, read_model_description
-from fmpy.fmi2 import FMU2Slave
+from fmpy import extract
+from slave import Slave
 
 H = 2e-4  # the reference's sampling step
-
-
-class Slave:
-    """An FMU2Slave with value references by name."""
-
-    def __init__(self, fmu, unzip_dir, name="inst", guid=None):
-        md = read_model_description(str(fmu))
-        self.vr = {v.name: v.valueReference for v in md.modelVariables}
-        self.s = FMU2Slave(guid=guid or md.guid, unzipDirectory=str(unzip_dir),
-                           modelIdentifier=md.coSimulation.modelIdentifier, instanceName=name)
-
-    def start(self, stop=None):
-        self.s.instantiate()
-        self.s.setupExperiment(startTime=0.0, stopTime=stop)
-        self.s.enterInitializationMode()
-        self.s.exitInitializationMode()
-        return self
-
-    def set(self, **values):
-        names = [k.replace("__", ".") for k in values]
-        self.s.setReal([self.vr[n] for n in names], list(values.values()))
-
-    def get(self, *names):
-        return np.array(self.s.getReal([self.vr[n] for n in names]))
-
-    def free(self):
-        self.s.terminate()
-        self.s.freeInstance()
 
 
 @pytest.fixture(scope="module")
