@@ -1,0 +1,99 @@
+//! Cost of a free-body communication step, explicit and implicit, on the free-free
+//! fixture and (when generated with `python fixtures/generate.py --large`) on the
+//! 200-mode, 5151-node `large_free` body.
+//!
+//! For each body: 2 exposed nodes and all nodes exposed; the explicit method at one
+//! internal step per communication step (h = 0.9 dt_fx) and the implicit method at the
+//! same h and at 20 times it. Prints the time per communication step and per simulated
+//! second. Run with `cargo bench --bench free`.
+
+use std::hint::black_box;
+use std::path::Path;
+use std::sync::Arc;
+use std::time::Instant;
+
+use fxbody::body::{Body, stable_step};
+use fxbody::fxb::load_body;
+use fxbody::scene::Scene;
+use fxbody::solver::free::coords_from_rigid_modes;
+use fxbody::solver::{Method, Options, build};
+
+/// Best time per step (seconds) over `rounds` rounds of `steps` steps each.
+fn time_steps(scene: &Scene, method: Method, h: f64, steps: usize, rounds: usize) -> f64 {
+    let mut solver = build(scene, method, &Options::default()).expect("solver builds");
+    let m = scene.nodes.len();
+    let mut loads = vec![0.0; 6 * m];
+    let mut pos = vec![0.0; 3 * m];
+    let mut best = f64::INFINITY;
+    for round in 0..rounds {
+        let t0 = Instant::now();
+        for k in 0..steps {
+            // A small transverse tip force that changes sign: the body bends and turns.
+            loads[1] = if (round * steps + k) % 200 < 100 { 0.01 } else { -0.01 };
+            solver.set_loads(&loads).expect("loads");
+            solver.step(h).expect("step");
+            solver.positions(&mut pos);
+            black_box(&pos);
+        }
+        best = best.min(t0.elapsed().as_secs_f64() / steps as f64);
+    }
+    best
+}
+
+fn scene(body: &Arc<Body>, nodes: Vec<usize>) -> Scene {
+    let all = coords_from_rigid_modes(body);
+    let x0 = nodes.iter().map(|&n| all[n]).collect();
+    Scene::new(body.clone(), nodes, x0)
+}
+
+fn main() {
+    println!("free-body step cost (best of rounds; shared machine, figures vary)");
+    println!(
+        "{:<12} {:>5} {:>7} {:>6} {:>10} {:>18} {:>14} {:>14}",
+        "body", "nL", "nodes", "method", "h / dt_fx", "us per comm. step", "us per int.", "s per sim. s"
+    );
+    for name in ["freefree", "truss", "large_free"] {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("fixtures/{name}.fxb"));
+        if !path.is_file() {
+            println!("{name}: not generated (python fixtures/generate.py --large)");
+            continue;
+        }
+        let body = Arc::new(load_body(&path).expect("fixture reads"));
+        let fmax = body.frequencies_hz.last().copied().unwrap_or(0.0);
+        let beta = body.damping.map_or(0.0, |d| d.beta);
+        let dt_fx = stable_step(fmax, beta);
+        let n = body.nnodes();
+        let big = n > 1000;
+        let (steps, rounds) = if big { (20, 3) } else { (2000, 5) };
+        let mut selections = vec![(vec![0, n - 1], "2")];
+        let all_label = n.to_string();
+        selections.push(((0..n).collect(), all_label.as_str()));
+        for (nodes, label) in selections {
+            let sc = scene(&body, nodes);
+            for (method, factor) in [
+                (Method::Explicit, 0.9),
+                (Method::Implicit, 0.9),
+                (Method::Implicit, 18.0),
+            ] {
+                let h = factor * dt_fx;
+                let t = time_steps(&sc, method, h, steps, rounds);
+                let internal = if method == Method::Explicit {
+                    format!("{:.2}", t * 1e6 / (h / (0.9 * dt_fx)).ceil())
+                } else {
+                    "-".into()
+                };
+                println!(
+                    "{:<12} {:>5} {:>7} {:>6} {:>10.1} {:>18.2} {:>14} {:>14.4}",
+                    name,
+                    body.nl(),
+                    label,
+                    format!("{method:?}").to_lowercase(),
+                    factor,
+                    t * 1e6,
+                    internal,
+                    t / h
+                );
+            }
+        }
+    }
+}
