@@ -29,7 +29,11 @@ fn time_steps(scene: &Scene, method: Method, h: f64, steps: usize, rounds: usize
         let t0 = Instant::now();
         for k in 0..steps {
             // A small transverse tip force that changes sign: the body bends and turns.
-            loads[1] = if (round * steps + k) % 200 < 100 { 0.01 } else { -0.01 };
+            loads[1] = if (round * steps + k) % 200 < 100 {
+                0.01
+            } else {
+                -0.01
+            };
             solver.set_loads(&loads).expect("loads");
             solver.step(h).expect("step");
             solver.positions(&mut pos);
@@ -50,7 +54,14 @@ fn main() {
     println!("free-body step cost (best of rounds; shared machine, figures vary)");
     println!(
         "{:<12} {:>5} {:>7} {:>6} {:>10} {:>18} {:>14} {:>14}",
-        "body", "nL", "nodes", "method", "h / dt_fx", "us per comm. step", "us per int.", "s per sim. s"
+        "body",
+        "nL",
+        "nodes",
+        "method",
+        "h / dt_fx",
+        "us per comm. step",
+        "us per int.",
+        "s per sim. s"
     );
     for name in ["freefree", "truss", "large_free"] {
         let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("fixtures/{name}.fxb"));

@@ -137,34 +137,37 @@ fn text(i: &Info, path: &std::path::Path) -> String {
             "free"
         }
     );
-    let ids: Vec<String> = b.node_ids.iter().map(ToString::to_string).collect();
-    let _ = writeln!(o, "node IDs: {}", ids.join(" "));
-    let f: Vec<String> = b
-        .frequencies_hz
-        .iter()
-        .map(|v| format!("{v:.6e}"))
-        .collect();
-    let _ = writeln!(o, "eigenfrequencies of (K_L, m_L), Hz: {}", f.join(" "));
+    let _ = writeln!(o, "node IDs: {}", abbreviated_ids(&b.node_ids));
+    o.push_str("eigenfrequencies of (K_L, m_L), Hz:");
+    for (k, v) in b.frequencies_hz.iter().enumerate() {
+        if k % 8 == 0 {
+            o.push_str("\n ");
+        }
+        let _ = write!(o, " {:>11}", significant(*v, 7));
+    }
+    o.push('\n');
     let _ = writeln!(
         o,
-        "stored Freq: {:.9e} Hz, largest computed: {:.9e} Hz",
-        b.freq_file, i.freq_max_hz
+        "stored Freq: {} Hz, largest computed: {} Hz",
+        significant(b.freq_file, 10),
+        significant(i.freq_max_hz, 10)
     );
     if let Some(d) = b.damping {
         let _ = writeln!(
             o,
-            "Rayleigh damping: alpha {:e} 1/s, beta {:e} s",
-            d.alpha, d.beta
+            "Rayleigh damping: alpha {} 1/s, beta {} s",
+            significant(d.alpha, 7),
+            significant(d.beta, 7)
         );
     }
     let _ = writeln!(
         o,
-        "stable step of the explicit scheme (from stored Freq): {:.6e} s",
-        i.dt_stab_s
+        "stable step of the explicit scheme (from stored Freq): {} s",
+        significant(i.dt_stab_s, 7)
     );
     match i.mass {
         Some(m) => {
-            let _ = writeln!(o, "total mass (from M_R): {m:.9e} kg");
+            let _ = writeln!(o, "total mass (from M_R): {} kg", significant(m, 10));
         }
         None => o.push_str("total mass: not in the file (blocked body)\n"),
     }
@@ -175,4 +178,40 @@ fn text(i: &Info, path: &std::path::Path) -> String {
         let _ = writeln!(o, "warning: {w}");
     }
     o
+}
+
+/// Node IDs for reading: all of them up to 20, else the first 10, the last 5 and the count
+/// (`--json` always lists every ID).
+fn abbreviated_ids(ids: &[i64]) -> String {
+    let join = |s: &[i64]| {
+        s.iter()
+            .map(ToString::to_string)
+            .collect::<Vec<_>>()
+            .join(" ")
+    };
+    if ids.len() <= 20 {
+        join(ids)
+    } else {
+        format!(
+            "{} ... {} ({} nodes)",
+            join(&ids[..10]),
+            join(&ids[ids.len() - 5..]),
+            ids.len()
+        )
+    }
+}
+
+/// `v` with `digits` significant digits, in plain notation for magnitudes from 1e-4 to
+/// below 1e7 and in scientific notation (`1.234e-5`) outside that range.
+fn significant(v: f64, digits: usize) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return format!("{v}");
+    }
+    let exp = v.abs().log10().floor() as i32;
+    if (-4..7).contains(&exp) {
+        let decimals = (digits as i32 - 1 - exp).max(0) as usize;
+        format!("{v:.decimals$}")
+    } else {
+        format!("{v:.prec$e}", prec = digits - 1)
+    }
 }
