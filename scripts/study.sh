@@ -1,0 +1,23 @@
+#!/usr/bin/env bash
+# Speed against accuracy (issue 8), from scratch: the Python peers (numpy exact state
+# space; Exudyn when importable), then `fxbody study` (every method over a range of
+# communication steps, stability map, dense-product bound), which also draws
+# docs/study.svg and writes docs/study_results.md. Usage: scripts/study.sh [--quick]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+QUICK="${1:-}"
+PY="${PYTHON:-.venv/bin/python}"
+if [ ! -x "$PY" ]; then
+    python3 -m venv .venv
+    .venv/bin/pip install -q -r requirements-test.txt
+fi
+mkdir -p docs
+export OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1
+echo "== peers (numpy, exudyn) =="
+"$PY" study/peers.py fixtures docs/peers.csv $QUICK
+echo "== full-FE chirp reference =="
+F1=$("$PY" -c "import json; d = json.load(open('fixtures/cantilever.ref.json')); print(repr(5 * d['frequencies_hz']['euler_bernoulli_planes']['xy'][0]))")
+"$PY" study/chirp_ref.py fixtures docs/chirp_ref.csv "$F1" 1.0 5e-5
+echo "== fxbody study =="
+cargo build --release --bin fxbody -q
+./target/release/fxbody study --fixtures fixtures --out docs $QUICK
