@@ -11,7 +11,9 @@ if [ ! -x "$PY" ]; then
     python3 -m venv .venv
     .venv/bin/pip install -q -r requirements-test.txt
 fi
-mkdir -p docs
+mkdir -p docs out/study
+# Build first (binary and FMU library) so that no compilation runs during the timings.
+cargo build --release -q
 export OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1
 echo "== peers (numpy, exudyn) =="
 "$PY" study/peers.py fixtures docs/peers.csv $QUICK
@@ -19,5 +21,9 @@ echo "== full-FE chirp reference =="
 F1=$("$PY" -c "import json; d = json.load(open('fixtures/cantilever.ref.json')); print(repr(5 * d['frequencies_hz']['euler_bernoulli_planes']['xy'][0]))")
 "$PY" study/chirp_ref.py fixtures docs/chirp_ref.csv "$F1" 1.0 5e-5
 echo "== fxbody study =="
-cargo build --release --bin fxbody -q
 ./target/release/fxbody study --fixtures fixtures --out docs $QUICK
+echo "== co-simulation coupling stability (fmpy) =="
+./target/release/fxbody pack fixtures/cantilever.fxb --coords fixtures/cantilever.nodes.rad \
+    --nodes "$("$PY" -c "import json; print(json.load(open('fixtures/cantilever.ref.json'))['tip_node'])")" \
+    -o out/study/cantilever_tip.fmu
+"$PY" study/cosim.py out/study/cantilever_tip.fmu fixtures docs/cosim.csv $QUICK

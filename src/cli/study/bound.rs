@@ -94,7 +94,8 @@ pub fn measure(
         .map(|(s, out)| {
             let l = &loads;
             Box::new(move || {
-                s.set_loads(black_box(l)).expect("loads of the right length");
+                s.set_loads(black_box(l))
+                    .expect("loads of the right length");
                 s.step(h).expect("a positive finite step");
                 s.positions(out);
                 black_box(&*out);

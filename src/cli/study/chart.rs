@@ -33,7 +33,9 @@ const MR: f64 = 14.0;
 const COLS: usize = 3;
 
 fn esc(s: &str) -> String {
-    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
 }
 
 /// Decade bounds enclosing the positive finite values.
@@ -162,8 +164,7 @@ pub fn svg(panels: &[Panel], title: &str) -> String {
                 .map(|&(x, y)| (px(x), py(y)))
                 .collect();
             if !c.markers_only && pts.len() > 1 {
-                let path: Vec<String> =
-                    pts.iter().map(|(x, y)| format!("{x:.1},{y:.1}")).collect();
+                let path: Vec<String> = pts.iter().map(|(x, y)| format!("{x:.1},{y:.1}")).collect();
                 let _ = writeln!(
                     s,
                     r#"<polyline points="{}" fill="none" stroke="{}" stroke-width="2"/>"#,

@@ -150,8 +150,7 @@ pub fn fixture(dir: &Path, name: &str) -> Result<(Scene, Json), String> {
     let fxb = dir.join(format!("{name}.fxb"));
     let body = load_body(&fxb).map_err(|e| format!("{}: {e}", fxb.display()))?;
     let refp = dir.join(format!("{name}.ref.json"));
-    let text =
-        std::fs::read_to_string(&refp).map_err(|e| format!("{}: {e}", refp.display()))?;
+    let text = std::fs::read_to_string(&refp).map_err(|e| format!("{}: {e}", refp.display()))?;
     let j = json::parse(&text).map_err(|e| format!("{}: {e}", refp.display()))?;
     let tip = j
         .get("tip_node")
@@ -178,14 +177,20 @@ pub fn fe_response(j: &Json, name: &str) -> Result<(Reference, Load, f64), Strin
         .find(|r| r.get("name").and_then(Json::str) == Some(name))
         .ok_or_else(|| format!("reference has no response {name}"))?;
     let tip = j.get("tip_node").and_then(Json::num).unwrap_or(0.0) as i64;
-    let t = r.get("t").and_then(Json::nums).ok_or("response without t")?;
+    let t = r
+        .get("t")
+        .and_then(Json::nums)
+        .ok_or("response without t")?;
     let uy = r
         .get("nodes")
         .and_then(|n| n.get(&tip.to_string()))
         .and_then(|n| n.get("uy"))
         .and_then(Json::nums)
         .ok_or("response without the tip's uy")?;
-    let amp = r.get("amplitude").and_then(Json::num).ok_or("no amplitude")?;
+    let amp = r
+        .get("amplitude")
+        .and_then(Json::num)
+        .ok_or("no amplitude")?;
     let load = match r.get("duration").and_then(Json::num) {
         Some(d) => Load::Pulse(amp, d),
         None => Load::Step(amp),
