@@ -338,7 +338,7 @@ pub fn run(args: &StudyArgs) -> Result<(), String> {
     let (damped, _) = fixture(&args.fixtures, "cantilever_damped")?;
     let bodies = [
         ("cantilever (blocked)", &cases[0].scene),
-        ("cantilever_damped (blocked, Rayleigh)", &damped),
+        ("cantilever_damped (blocked; Rayleigh)", &damped),
         ("free-free (free)", &cases[3].scene),
     ];
     for (body, scene) in bodies {
