@@ -52,7 +52,7 @@ def coupled_mode(fixtures, tip_id):
     # The coupled mode: the lowest one that moves the spring's DOF (the lowest mode of
     # the body bends in the other plane and does not feel the spring).
     p2 = (b @ v) ** 2
-    i = int(np.argmax(p2 > 0.1 * p2.max()))
+    i = int(np.argmax(p2 > 1e-8 * p2.max()))
     return np.sqrt(w2[i]), float(b @ v[:, i]), k_static
 
 
