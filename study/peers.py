@@ -92,8 +92,10 @@ def numpy_peer(body, ref, scene, resp, h, reps):
 
 def exudyn_peer(fixtures, quick):
     """Exudyn's ObjectFFRFreducedOrder wants a mode basis of node translations (3 per
-    node) built by its FEMinterface from a solid-element mesh; the fixtures' bodies are
-    6-DOF frame elements. Only the import is tried here; see docs/STUDY.md."""
+    node) and computes its frame inertia from a matching translational mass matrix (its
+    FEMinterface builds both from solid-element meshes); the fixtures' free-free beam is
+    6-DOF frame elements on one line, whose translational mass has no inertia about the
+    axis. Only the import is tried here; see docs/STUDY.md."""
     try:
         import exudyn  # noqa: F401
     except Exception as e:  # not installed or broken: say so, no numbers
