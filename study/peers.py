@@ -91,16 +91,17 @@ def numpy_peer(body, ref, scene, resp, h, reps):
 
 
 def exudyn_peer(fixtures, quick):
-    """Exudyn's ObjectFFRFreducedOrder wants a mode basis of node translations (3 per
-    node) and computes its frame inertia from a matching translational mass matrix (its
-    FEMinterface builds both from solid-element meshes); the fixtures' free-free beam is
-    6-DOF frame elements on one line, whose translational mass has no inertia about the
-    axis. Only the import is tried here; see docs/STUDY.md."""
+    """Exudyn on the free truss (see study/exudyn_peer.py for why the truss and not the
+    free-free beam). Returns (rows, note); no rows when exudyn is not importable."""
     try:
         import exudyn  # noqa: F401
     except Exception as e:  # not installed or broken: say so, no numbers
-        return None, f"exudyn not importable: {type(e).__name__}"
-    return None, "exudyn imports; the free-free FFRF model was not built (see STUDY.md)"
+        return [], f"exudyn not importable: {type(e).__name__}"
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    import exudyn_peer
+
+    hs = [2e-5] if quick else [1e-5, 2e-5, 4e-5]
+    return exudyn_peer.rows(fixtures, hs, 1 if quick else 2), "exudyn " + exudyn.__version__
 
 
 def main():
@@ -116,7 +117,8 @@ def main():
             print(f"numpy {scene:<18} h = {h:.3e}  error {err:.3e}  {ns:8.0f} ns/step",
                   file=sys.stderr)
             rows.append(("numpy exact state space", scene, h, err, ns, cpu, "scipy expm ZOH"))
-    _, note = exudyn_peer(fixtures, quick)
+    ex_rows, note = exudyn_peer(fixtures, quick)
+    rows += ex_rows
     print("exudyn:", note, file=sys.stderr)
     with open(out, "w") as f:
         f.write("peer,scene,h_s,error_rel_peak,ns_per_step,cpu_s_per_sim_s,note\n")

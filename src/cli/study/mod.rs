@@ -118,6 +118,22 @@ fn build_cases(args: &StudyArgs) -> Result<Vec<Case>, String> {
         steps: free_steps,
         reference: None,
     });
+    // The free truss: the body the Exudyn peer can take (translational DOFs only).
+    let (truss, tj) = fixture(dir, "truss")?;
+    let (r, load, duration) = fe_response(&tj, "pulse")?;
+    cases.push(Case {
+        name: "truss pulse".into(),
+        scene: truss,
+        load,
+        duration,
+        components: 1,
+        steps: if args.quick {
+            doublings(2.5e-6, 2, 4)
+        } else {
+            doublings(2.5e-6, 1, 5)
+        },
+        reference: Some(r),
+    });
     Ok(cases)
 }
 
