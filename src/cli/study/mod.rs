@@ -279,7 +279,7 @@ pub fn run(args: &StudyArgs) -> Result<(), String> {
             let _ = writeln!(notes, "- {}: reference = {r}.", c.name);
         }
     }
-    let min_time = if args.quick { 0.005 } else { 0.1 };
+    let min_time = if args.quick { 0.005 } else { 0.25 };
     let total: usize = cases
         .iter()
         .map(|c| {
