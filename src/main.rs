@@ -21,6 +21,8 @@ enum Command {
     Pack(cli::pack::PackArgs),
     /// The main job: pack the shipped cantilever, run a tip step load through the FMU's C ABI.
     Demo(cli::demo::DemoArgs),
+    /// Speed against accuracy: every method over a range of steps, stability map, bound.
+    Study(cli::study::StudyArgs),
 }
 
 fn main() {
@@ -29,6 +31,7 @@ fn main() {
         Command::Info(args) => cli::info::run(args),
         Command::Pack(args) => cli::pack::run(args),
         Command::Demo(args) => cli::demo::run(args),
+        Command::Study(args) => cli::study::run(args),
     };
     if let Err(message) = result {
         eprintln!("fxbody: {message}");
