@@ -91,7 +91,10 @@ impl ModalBasis {
     /// slack, so that a printed frequency used as fmax keeps its mode).
     pub fn count_below(&self, fmax_hz: f64) -> usize {
         let limit = fmax_hz * (1.0 + FMAX_SLACK);
-        self.frequencies_hz().iter().filter(|&&f| f <= limit).count()
+        self.frequencies_hz()
+            .iter()
+            .filter(|&&f| f <= limit)
+            .count()
     }
 }
 
@@ -255,7 +258,11 @@ pub fn to_fxb(body: &Body) -> FxbFile {
         ],
         freq: body.freq_file,
         damping: body.damping.map(|d| (d.alpha, d.beta)),
-        rigid_modes: if body.iblo { Vec::new() } else { modes(&body.phi_r) },
+        rigid_modes: if body.iblo {
+            Vec::new()
+        } else {
+            modes(&body.phi_r)
+        },
         local_modes: modes(&body.phi_l),
         m_l: body.m_l.iter().copied().collect(),
         k_full,

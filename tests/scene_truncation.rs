@@ -160,7 +160,10 @@ fn one_mode_misses_the_euler_bernoulli_fraction_and_the_correction_closes_it() {
         corrected / fe_uy
     );
     assert!((frac - eb).abs() < 2e-4, "one-mode fraction {frac} vs {eb}");
-    assert!((corrected / fe_uy - 1.0).abs() < 1e-6, "{corrected} vs {fe_uy}");
+    assert!(
+        (corrected / fe_uy - 1.0).abs() < 1e-6,
+        "{corrected} vs {fe_uy}"
+    );
     // And through a solver: without the residual the settled tip deflection (implicit
     // method, rho_inf = 0, one step of 1000 s: the algorithmic damping removes every
     // oscillation) is the one-mode value; with it, the corrected one.

@@ -3,3 +3,4 @@
 pub mod demo;
 pub mod info;
 pub mod pack;
+pub mod reduce;
