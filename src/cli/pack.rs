@@ -57,7 +57,9 @@ pub fn run(args: &PackArgs) -> Result<(), String> {
             s.parse::<f64>()
                 .ok()
                 .filter(|f| f.is_finite() && *f > 0.0)
-                .ok_or_else(|| format!("--fmax: expected a frequency > 0 (Hz) or 'auto', found '{s}'"))?,
+                .ok_or_else(|| {
+                    format!("--fmax: expected a frequency > 0 (Hz) or 'auto', found '{s}'")
+                })?,
         )),
     };
     let req = PackRequest {
@@ -99,10 +101,16 @@ pub fn parse_nodes(text: &str, name: &str) -> Result<Vec<i64>, String> {
     let mut ids = Vec::new();
     for (k, line) in text.lines().enumerate() {
         let line = line.split('#').next().unwrap_or("");
-        for tok in line.split([',', ' ', '\t']).filter(|t| !t.trim().is_empty()) {
+        for tok in line
+            .split([',', ' ', '\t'])
+            .filter(|t| !t.trim().is_empty())
+        {
             let tok = tok.trim();
             ids.push(tok.parse::<i64>().map_err(|_| {
-                format!("{name}:{}: expected an integer node ID, found '{tok}'", k + 1)
+                format!(
+                    "{name}:{}: expected an integer node ID, found '{tok}'",
+                    k + 1
+                )
             })?);
         }
     }
@@ -118,7 +126,10 @@ mod tests {
 
     #[test]
     fn nodes_file_forms() {
-        let ids = parse_nodes("# tip and root\n121, 101\n111 # mid\n\n 105\t106\n", "n.txt");
+        let ids = parse_nodes(
+            "# tip and root\n121, 101\n111 # mid\n\n 105\t106\n",
+            "n.txt",
+        );
         assert_eq!(ids.unwrap(), vec![121, 101, 111, 105, 106]);
         let e = parse_nodes("121\n12x\n", "n.txt").unwrap_err();
         assert_eq!(e, "n.txt:2: expected an integer node ID, found '12x'");

@@ -119,7 +119,10 @@ impl SceneOptions {
                     units = Some(UnitSystem::parse(value).map_err(|e| format!("{at}: {e}"))?)
                 }
                 "fmax" => {
-                    let f = value.parse::<f64>().ok().filter(|f| f.is_finite() && *f > 0.0);
+                    let f = value
+                        .parse::<f64>()
+                        .ok()
+                        .filter(|f| f.is_finite() && *f > 0.0);
                     fmax = Some(f.ok_or_else(|| {
                         format!("{at}: fmax: expected a frequency > 0 (Hz), found '{value}'")
                     })?);

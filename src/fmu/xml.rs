@@ -268,7 +268,11 @@ pub fn model_description(
             )
     };
     for &i in &outputs {
-        let deps = if feeds(i) { loads.join(" ") } else { String::new() };
+        let deps = if feeds(i) {
+            loads.join(" ")
+        } else {
+            String::new()
+        };
         let _ = writeln!(
             x,
             "      <Unknown index=\"{}\" dependencies=\"{deps}\"/>",
