@@ -25,6 +25,10 @@
 
 use nalgebra::{DMatrix, DVector, SymmetricEigen};
 
+mod participation;
+
+pub use participation::{Participation, effective_mass, static_participation};
+
 use crate::body::{Body, eigenfrequencies_hz};
 use crate::fxb::FxbFile;
 
