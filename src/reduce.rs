@@ -154,7 +154,7 @@ pub fn truncate(body: &Body, fmax_hz: f64) -> Result<Truncation, ReduceError> {
     let psi_k = basis.psi.columns(0, k).into_owned();
     let psi_d = basis.psi.columns(k, nl - k);
     let inv_w2 = DVector::from_iterator(nl - k, basis.omega[k..].iter().map(|w| 1.0 / (w * w)));
-    let flex = &psi_d * DMatrix::from_diagonal(&inv_w2) * psi_d.transpose();
+    let flex = psi_d * DMatrix::from_diagonal(&inv_w2) * psi_d.transpose();
     let w2 = DVector::from_iterator(k, basis.omega[..k].iter().map(|w| w * w));
     let mut out = body.clone();
     out.phi_l = &body.phi_l * &psi_k;

@@ -65,19 +65,19 @@ pub fn run(args: &ReduceArgs) -> Result<(), String> {
         text.len(),
         file.nbnod
     );
-    if let Some(r) = residual {
-        if r.dropped > 0 {
-            o.push_str(
-                "residual flexibility of the dropped modes (local frame; not expressible in \
-                 .fxb: `fxbody pack --fmax` recomputes it from the full file). Diagonal, \
-                 per node X Y Z (m/N) XX YY ZZ (rad/(N m)):\n",
-            );
-            for (k, &n) in nodes.iter().enumerate() {
-                let d: Vec<String> = (0..6)
-                    .map(|c| format!("{:.6e}", r.r[(6 * k + c, 6 * k + c)]))
-                    .collect();
-                let _ = writeln!(o, "  node {}: {}", body.node_ids[n], d.join(" "));
-            }
+    if let Some(r) = residual
+        && r.dropped > 0
+    {
+        o.push_str(
+            "residual flexibility of the dropped modes (local frame; not expressible in \
+             .fxb: `fxbody pack --fmax` recomputes it from the full file). Diagonal, \
+             per node X Y Z (m/N) XX YY ZZ (rad/(N m)):\n",
+        );
+        for (k, &n) in nodes.iter().enumerate() {
+            let d: Vec<String> = (0..6)
+                .map(|c| format!("{:.6e}", r.r[(6 * k + c, 6 * k + c)]))
+                .collect();
+            let _ = writeln!(o, "  node {}: {}", body.node_ids[n], d.join(" "));
         }
     }
     print!("{o}");
