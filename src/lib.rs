@@ -9,5 +9,6 @@ pub mod body;
 pub mod fmi;
 pub mod fmu;
 pub mod fxb;
+pub mod reduce;
 pub mod scene;
 pub mod solver;

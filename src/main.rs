@@ -19,6 +19,8 @@ enum Command {
     Info(cli::info::InfoArgs),
     /// Pack a .fxb file into an FMI 2.0 co-simulation FMU.
     Pack(cli::pack::PackArgs),
+    /// Write a smaller .fxb: only the chosen nodes, only the modes up to fmax.
+    Reduce(cli::reduce::ReduceArgs),
     /// The main job: pack the shipped cantilever, run a tip step load through the FMU's C ABI.
     Demo(cli::demo::DemoArgs),
     /// Speed against accuracy: every method over a range of steps, stability map, bound.
@@ -30,6 +32,7 @@ fn main() {
     let result = match &cli.command {
         Command::Info(args) => cli::info::run(args),
         Command::Pack(args) => cli::pack::run(args),
+        Command::Reduce(args) => cli::reduce::run(args),
         Command::Demo(args) => cli::demo::run(args),
         Command::Study(args) => cli::study::run(args),
     };

@@ -6,6 +6,7 @@ use std::sync::Arc;
 use nalgebra::DMatrix;
 
 use crate::body::Body;
+use crate::reduce::{ReduceError, Residual, Truncation, truncate};
 
 /// A body and the part of it a simulation couples to.
 #[derive(Debug, Clone)]
@@ -22,6 +23,10 @@ pub struct Scene {
     pub v0: [f64; 3],
     /// Initial body angular velocity w, global frame (free bodies only).
     pub w0: [f64; 3],
+    /// Static flexibility of modes the body no longer carries, at the exposed nodes
+    /// (local frame); `None` for an untruncated body. [`crate::solver::build`] adds its
+    /// quasi-static displacement `R f` to the outputs.
+    pub residual: Option<Arc<Residual>>,
 }
 
 impl Scene {
@@ -34,7 +39,26 @@ impl Scene {
             gravity: [0.0; 3],
             v0: [0.0; 3],
             w0: [0.0; 3],
+            residual: None,
         }
+    }
+
+    /// The same scene with the body truncated to the modes of (K_L, m_L) up to
+    /// `fmax_hz` and the dropped modes' static flexibility at the exposed nodes kept as
+    /// the residual ([`crate::reduce`]). Truncating an already truncated scene is refused
+    /// only in the sense that its residual would be lost: it adds the new dropped modes'
+    /// flexibility to the existing one.
+    pub fn truncated(&self, fmax_hz: f64) -> Result<(Scene, Truncation), ReduceError> {
+        let t = truncate(&self.body, fmax_hz)?;
+        let mut residual = t.residual(&self.nodes);
+        if let Some(old) = &self.residual {
+            residual.r += &old.r;
+            residual.dropped += old.dropped;
+        }
+        let mut scene = self.clone();
+        scene.body = Arc::new(t.body.clone());
+        scene.residual = Some(Arc::new(residual));
+        Ok((scene, t))
     }
 
     /// Rows of a mode matrix for the exposed nodes: `6 m x ncols`, row `6 k + c` is

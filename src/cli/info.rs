@@ -15,6 +15,10 @@ pub struct InfoArgs {
     /// Print one JSON object instead of text.
     #[arg(long)]
     pub json: bool,
+    /// Also report, at these node IDs, the share of the static deflection each mode
+    /// carries, and (free bodies) each mode's effective mass: what truncation costs.
+    #[arg(long, value_delimiter = ',')]
+    pub nodes: Option<Vec<i64>>,
 }
 
 /// What `info` reports, computed once for both output forms.
@@ -48,6 +52,14 @@ pub fn run(args: &InfoArgs) -> Result<(), String> {
         text(&info, &args.file)
     };
     print!("{out}");
+    if let Some(ids) = &args.nodes {
+        let nodes =
+            fxbody::reduce::node_indices(&info.body, ids).map_err(|e| format!("--nodes: {e}"))?;
+        print!(
+            "{}",
+            super::info_modes::report(&info.body, &nodes, args.json)
+        );
+    }
     Ok(())
 }
 

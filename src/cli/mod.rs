@@ -2,5 +2,7 @@
 
 pub mod demo;
 pub mod info;
+pub mod info_modes;
 pub mod pack;
+pub mod reduce;
 pub mod study;

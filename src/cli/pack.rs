@@ -1,9 +1,10 @@
 //! `fxbody pack FILE -o OUT.fmu [--coords DECK|CSV] [--nodes ID,...] [--name NAME]
-//! [--units NAME] [--lib PATH]`: a flexible body as an FMI 2.0 co-simulation FMU.
+//! [--units NAME] [--lib PATH] [--nodes-file FILE] [--fmax HZ|auto]`: a flexible body as
+//! an FMI 2.0 co-simulation FMU.
 
 use std::path::PathBuf;
 
-use fxbody::fmu::pack::{PackRequest, find_library, pack};
+use fxbody::fmu::pack::{Fmax, PackRequest, find_library, pack_with};
 
 /// Arguments of `pack`.
 #[derive(Debug, clap::Args)]
@@ -19,8 +20,17 @@ pub struct PackArgs {
     #[arg(long)]
     pub coords: Option<PathBuf>,
     /// Exposed node IDs, comma-separated (default: all nodes of the body).
-    #[arg(long, value_delimiter = ',')]
+    #[arg(long, value_delimiter = ',', conflicts_with = "nodes_file")]
     pub nodes: Option<Vec<i64>>,
+    /// Exposed node IDs from a file: one ID per line or comma-separated, `#` starts a
+    /// comment.
+    #[arg(long)]
+    pub nodes_file: Option<PathBuf>,
+    /// Keep the modes up to this frequency (Hz) and the rest as a static correction;
+    /// `auto`: twice the Nyquist frequency of the DefaultExperiment step. Default: all
+    /// modes.
+    #[arg(long)]
+    pub fmax: Option<String>,
     /// Model name (default: the file name without extension).
     #[arg(long)]
     pub name: Option<String>,
@@ -36,14 +46,30 @@ pub struct PackArgs {
 /// Run `pack`: a one-line summary on stdout, or the error message.
 pub fn run(args: &PackArgs) -> Result<(), String> {
     let lib = find_library(args.lib.as_deref()).map_err(|e| e.to_string())?;
+    let nodes = match &args.nodes_file {
+        Some(p) => Some(read_nodes_file(p)?),
+        None => args.nodes.clone(),
+    };
+    let fmax = match args.fmax.as_deref() {
+        None => None,
+        Some("auto") => Some(Fmax::Auto),
+        Some(s) => Some(Fmax::Hz(
+            s.parse::<f64>()
+                .ok()
+                .filter(|f| f.is_finite() && *f > 0.0)
+                .ok_or_else(|| {
+                    format!("--fmax: expected a frequency > 0 (Hz) or 'auto', found '{s}'")
+                })?,
+        )),
+    };
     let req = PackRequest {
         body: args.file.clone(),
         coords: args.coords.clone(),
-        nodes: args.nodes.clone(),
+        nodes,
         name: args.name.clone(),
         units: args.units.clone(),
     };
-    let p = pack(&req, &lib, &args.output).map_err(|e| e.to_string())?;
+    let p = pack_with(&req, fmax, &lib, &args.output).map_err(|e| e.to_string())?;
     for n in &p.notes {
         eprintln!("fxbody pack: {n}");
     }
@@ -60,4 +86,53 @@ pub fn run(args: &PackArgs) -> Result<(), String> {
         size as f64 / 1e6
     );
     Ok(())
+}
+
+/// Node IDs from a `--nodes-file`: one per line or comma-separated (blanks also
+/// separate), `#` starts a comment. Errors name the file and line.
+pub fn read_nodes_file(path: &std::path::Path) -> Result<Vec<i64>, String> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| format!("--nodes-file {}: cannot read: {e}", path.display()))?;
+    parse_nodes(&text, &path.display().to_string())
+}
+
+/// Parse the text of a nodes file (see [`read_nodes_file`]).
+pub fn parse_nodes(text: &str, name: &str) -> Result<Vec<i64>, String> {
+    let mut ids = Vec::new();
+    for (k, line) in text.lines().enumerate() {
+        let line = line.split('#').next().unwrap_or("");
+        for tok in line
+            .split([',', ' ', '\t'])
+            .filter(|t| !t.trim().is_empty())
+        {
+            let tok = tok.trim();
+            ids.push(tok.parse::<i64>().map_err(|_| {
+                format!(
+                    "{name}:{}: expected an integer node ID, found '{tok}'",
+                    k + 1
+                )
+            })?);
+        }
+    }
+    if ids.is_empty() {
+        return Err(format!("{name}: no node IDs"));
+    }
+    Ok(ids)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::parse_nodes;
+
+    #[test]
+    fn nodes_file_forms() {
+        let ids = parse_nodes(
+            "# tip and root\n121, 101\n111 # mid\n\n 105\t106\n",
+            "n.txt",
+        );
+        assert_eq!(ids.unwrap(), vec![121, 101, 111, 105, 106]);
+        let e = parse_nodes("121\n12x\n", "n.txt").unwrap_err();
+        assert_eq!(e, "n.txt:2: expected an integer node ID, found '12x'");
+        assert!(parse_nodes("# none\n", "n.txt").is_err());
+    }
 }

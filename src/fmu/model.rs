@@ -221,6 +221,15 @@ impl Model {
     /// Get Real values for `vrs` into `out` (same length). Needs a solver.
     pub fn get_reals(&mut self, vrs: &[u32], out: &mut [f64]) -> Result<(), String> {
         self.ensure_solver()?;
+        // A truncated scene's positions depend on the same-instant loads (residual
+        // flexibility): pass changed loads before reading.
+        if self.scene.residual.is_some()
+            && self.loads_dirty
+            && let Some(s) = self.solver.as_mut()
+        {
+            s.set_loads(&self.loads).map_err(|e| e.to_string())?;
+            self.loads_dirty = false;
+        }
         let Some(s) = self.solver.as_ref() else {
             return Err("no solver".into());
         };

@@ -3,7 +3,8 @@
 //! instantiation, so the variables the library serves are the ones the description lists.
 //!
 //! Format: `key = value` lines, `#` comments, keys `format` (must be 1), `name`, `nodes`
-//! (IDs separated by blanks), `units` (absent: no units declared).
+//! (IDs separated by blanks), `units` (absent: no units declared), `fmax` (Hz; absent:
+//! no mode truncation).
 
 use std::fmt::Write;
 
@@ -46,6 +47,9 @@ pub struct SceneOptions {
     pub nodes: Vec<i64>,
     /// Declared units, or none.
     pub units: Option<UnitSystem>,
+    /// Keep the modes up to this frequency (Hz) with a static correction for the rest
+    /// (`pack --fmax`, [`crate::reduce`]); `None`: all modes.
+    pub fmax: Option<f64>,
 }
 
 impl SceneOptions {
@@ -78,6 +82,9 @@ impl SceneOptions {
         if let Some(u) = self.units {
             let _ = writeln!(s, "units = {}", u.name());
         }
+        if let Some(f) = self.fmax {
+            let _ = writeln!(s, "fmax = {f:?}");
+        }
         s
     }
 
@@ -87,6 +94,7 @@ impl SceneOptions {
         let mut nodes = None;
         let mut units = None;
         let mut format = None;
+        let mut fmax = None;
         for (k, line) in text.lines().enumerate() {
             let line = line.trim();
             if line.is_empty() || line.starts_with('#') {
@@ -110,6 +118,15 @@ impl SceneOptions {
                 "units" => {
                     units = Some(UnitSystem::parse(value).map_err(|e| format!("{at}: {e}"))?)
                 }
+                "fmax" => {
+                    let f = value
+                        .parse::<f64>()
+                        .ok()
+                        .filter(|f| f.is_finite() && *f > 0.0);
+                    fmax = Some(f.ok_or_else(|| {
+                        format!("{at}: fmax: expected a frequency > 0 (Hz), found '{value}'")
+                    })?);
+                }
                 other => return Err(format!("{at}: unknown key '{other}'")),
             }
         }
@@ -123,6 +140,7 @@ impl SceneOptions {
             name: name.ok_or_else(|| format!("{file}: missing 'name = ...'"))?,
             nodes: nodes.ok_or_else(|| format!("{file}: missing 'nodes = ...'"))?,
             units,
+            fmax,
         })
     }
 }
@@ -137,6 +155,7 @@ mod tests {
             name: "9 beam & co".into(),
             nodes: vec![12, -3, 7],
             units: Some(UnitSystem::Si),
+            fmax: Some(13.5),
         };
         let back = SceneOptions::parse(&o.to_text(), "scene.txt").unwrap();
         assert_eq!(back, o);

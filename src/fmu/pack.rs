@@ -60,6 +60,22 @@ pub struct Prepared {
 
 /// Read and check everything, and generate the description (no library needed).
 pub fn prepare(req: &PackRequest) -> Result<Prepared, PackError> {
+    prepare_with(req, None)
+}
+
+/// Mode truncation asked of `pack` (`--fmax HZ|auto`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Fmax {
+    /// Keep the modes up to this frequency, Hz.
+    Hz(f64),
+    /// Twice the Nyquist frequency 1/(2H) of the DefaultExperiment step H, i.e. 1/H.
+    Auto,
+}
+
+/// [`prepare`] with mode truncation: the options carry the resolved fmax, and the scene
+/// (here and in the FMU, from the full file) keeps the modes up to it plus the residual
+/// flexibility of the rest ([`crate::reduce`]).
+pub fn prepare_with(req: &PackRequest, fmax: Option<Fmax>) -> Result<Prepared, PackError> {
     let e = |s: String| PackError(s);
     let body_name = req.body.display().to_string();
     let body_bytes = std::fs::read(&req.body)
@@ -122,10 +138,34 @@ pub fn prepare(req: &PackRequest) -> Result<Prepared, PackError> {
         .map(UnitSystem::parse)
         .transpose()
         .map_err(e)?;
+    let fmax = match fmax {
+        None => None,
+        Some(Fmax::Hz(f)) => Some(f),
+        Some(Fmax::Auto) => {
+            let probe = Scene::new(std::sync::Arc::new(body.clone()), Vec::new(), Vec::new());
+            let h = super::xml::default_experiment(&probe).1;
+            notes.push(format!(
+                "--fmax auto: {} Hz, twice the Nyquist frequency 1/(2H) of the DefaultExperiment step H = {h} s",
+                1.0 / h
+            ));
+            Some(1.0 / h)
+        }
+    };
+    if let Some(f) = fmax {
+        let basis = crate::reduce::ModalBasis::of(&body);
+        let kept = basis.count_below(f);
+        notes.push(format!(
+            "--fmax {f} Hz: {kept} of {} modes kept, the other {} by their static (residual-flexibility) contribution; positions now depend on the same-instant loads",
+            body.nl(),
+            body.nl() - kept
+        ));
+    }
+    let all_exposed = req.nodes.is_none();
     let options = SceneOptions {
         name: req.name.clone().unwrap_or(stem),
         nodes,
         units,
+        fmax,
     };
     // Only the body's own nodes, in body order: the stored file does not depend on how
     // the user's coordinate file was ordered or what else it held.
@@ -139,6 +179,13 @@ pub fn prepare(req: &PackRequest) -> Result<Prepared, PackError> {
     let guid = guid(&body_bytes, coords_text.as_bytes(), &options_text);
     let scene = make_scene(body, &map, &options, &body_name).map_err(e)?;
     let table = VarTable::new(&scene);
+    if all_exposed && table.vars.len() > 1000 {
+        notes.push(format!(
+            "warning: all {} nodes are exposed, which makes {} variables; expose only the nodes the scene couples to (--nodes or --nodes-file)",
+            scene.nodes.len(),
+            table.vars.len()
+        ));
+    }
     let xml = model_description(&scene, &table, &options, &guid);
     Ok(Prepared {
         scene,
@@ -234,7 +281,17 @@ pub fn archive(p: &Prepared, lib: &[u8]) -> Result<Vec<u8>, PackError> {
 
 /// Pack `req` with the library at `lib` into `out`. Returns the prepared scene.
 pub fn pack(req: &PackRequest, lib: &Path, out: &Path) -> Result<Prepared, PackError> {
-    let p = prepare(req)?;
+    pack_with(req, None, lib, out)
+}
+
+/// [`pack`] with mode truncation ([`prepare_with`]).
+pub fn pack_with(
+    req: &PackRequest,
+    fmax: Option<Fmax>,
+    lib: &Path,
+    out: &Path,
+) -> Result<Prepared, PackError> {
+    let p = prepare_with(req, fmax)?;
     let lib_bytes = std::fs::read(lib)
         .map_err(|err| PackError(format!("{}: cannot read the library: {err}", lib.display())))?;
     let bytes = archive(&p, &lib_bytes)?;

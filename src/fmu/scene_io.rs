@@ -63,7 +63,16 @@ pub fn make_scene(
     if nodes.is_empty() {
         return Err("no exposed nodes: give at least one node ID".into());
     }
-    Ok(Scene::new(Arc::new(body), nodes, x0))
+    let scene = Scene::new(Arc::new(body), nodes, x0);
+    match opts.fmax {
+        // Truncated from the full file at every load, so the residual flexibility (which
+        // the .fxb format cannot hold) is exact.
+        Some(f) => scene
+            .truncated(f)
+            .map(|(s, _)| s)
+            .map_err(|e| format!("{body_name}: {e}")),
+        None => Ok(scene),
+    }
 }
 
 /// A short list of IDs for messages: all when few, else the first and last ones.

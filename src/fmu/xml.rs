@@ -253,10 +253,31 @@ pub fn model_description(
     let outputs: Vec<usize> = (0..table.vars.len())
         .filter(|&i| table.vars[i].causality == Causality::Output)
         .collect();
+    // Without truncation no output depends on an input at the same instant: positions,
+    // velocities, energies and the frame are states of the second-order system. With a
+    // residual flexibility (pack --fmax), positions and the strain energy carry R f.
+    let loads: Vec<String> = (0..table.vars.len())
+        .filter(|&j| matches!(table.vars[j].kind, Kind::Load { .. }))
+        .map(|j| (j + 1).to_string())
+        .collect();
+    let feeds = |i: usize| {
+        scene.residual.is_some()
+            && matches!(
+                table.vars[i].kind,
+                Kind::Position { .. } | Kind::StrainEnergy
+            )
+    };
     for &i in &outputs {
-        // No output depends on an input at the same instant: positions, velocities,
-        // energies and the frame are states of the second-order system.
-        let _ = writeln!(x, "      <Unknown index=\"{}\" dependencies=\"\"/>", i + 1);
+        let deps = if feeds(i) {
+            loads.join(" ")
+        } else {
+            String::new()
+        };
+        let _ = writeln!(
+            x,
+            "      <Unknown index=\"{}\" dependencies=\"{deps}\"/>",
+            i + 1
+        );
     }
     x.push_str("    </Outputs>\n    <InitialUnknowns>\n");
     for &i in &outputs {
@@ -264,7 +285,10 @@ pub fn model_description(
             .vars
             .iter()
             .enumerate()
-            .filter(|(_, p)| table.initial_dependency(&table.vars[i], p))
+            .filter(|(_, p)| {
+                table.initial_dependency(&table.vars[i], p)
+                    || (feeds(i) && matches!(p.kind, Kind::Load { .. }))
+            })
             .map(|(j, _)| (j + 1).to_string())
             .collect();
         let _ = writeln!(

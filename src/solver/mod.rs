@@ -22,6 +22,7 @@ mod expm;
 pub mod free;
 pub mod implicit;
 pub mod nodes;
+pub mod residual;
 
 pub use exact::Exact;
 pub use explicit::Explicit;
@@ -161,6 +162,14 @@ pub fn build(
     method: Method,
     opts: &Options,
 ) -> Result<Box<dyn Solver>, SolverError> {
+    // A truncated scene: the kept modes by the chosen method, plus the dropped modes'
+    // quasi-static displacement (residual.rs).
+    if scene.residual.is_some() {
+        let mut bare = scene.clone();
+        bare.residual = None;
+        let inner = build(&bare, method, opts)?;
+        return Ok(Box::new(residual::Residual::new(scene, inner)?));
+    }
     if !scene.body.iblo {
         return match method {
             Method::Explicit => Ok(Box::new(free::Explicit::new(scene, opts)?)),

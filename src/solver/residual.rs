@@ -1,0 +1,203 @@
+//! The static (residual-flexibility) correction of a truncated body, as a decorator over
+//! any solver: the dropped modes follow the load quasi-statically, so the exposed nodes
+//! move by `R f` on top of what the kept modes do ([`crate::reduce`]).
+//!
+//! With `f(t) = f0 + fdot (t - t_set)` (held or linearly varying load, the solvers' load
+//! model), the correction adds `P R P^T f` to the positions, `P R P^T fdot` to the
+//! velocities and the rotational rows to the rotation rates; it adds nothing to the
+//! accelerations (the second derivative of a piecewise-linear load is zero between
+//! samples; the impulses at the samples are not represented). `P` is P0 for a blocked
+//! body and the current frame of a free one (node-wise, on forces and on moments). The
+//! strain energy gains `1/2 f^T R f`; the kinetic energy of the dropped modes is not
+//! represented (quasi-static). Positions thus depend on the same-instant loads (a direct
+//! feedthrough, which the FMI model structure must declare).
+//!
+//! State layout: the inner solver's data, then `t_set`, 6m loads and 6m rates.
+
+use nalgebra::{DMatrix, Matrix3};
+
+use super::{Frame, Method, Solver, SolverError, State};
+use crate::scene::Scene;
+
+/// A solver plus the quasi-static displacement of the dropped modes at the exposed nodes.
+pub struct Residual {
+    inner: Box<dyn Solver>,
+    /// Local-frame residual flexibility, `6m x 6m`.
+    r: DMatrix<f64>,
+    /// Fixed frame of a blocked body; `None` for a free body (frame from the solver).
+    p_fixed: Option<Matrix3<f64>>,
+    loads: Vec<f64>,
+    rates: Vec<f64>,
+    t_set: f64,
+}
+
+impl Residual {
+    /// Wrap `inner`, built for `scene`, with the scene's residual flexibility.
+    pub fn new(scene: &Scene, inner: Box<dyn Solver>) -> Result<Residual, SolverError> {
+        let m = scene.nodes.len();
+        let r = scene
+            .residual
+            .as_ref()
+            .map_or_else(|| DMatrix::zeros(6 * m, 6 * m), |res| res.r.clone());
+        if r.nrows() != 6 * m || r.ncols() != 6 * m {
+            return Err(SolverError::BadInput(format!(
+                "residual flexibility is {}x{}, the scene exposes {m} nodes (expected {}x{})",
+                r.nrows(),
+                r.ncols(),
+                6 * m,
+                6 * m
+            )));
+        }
+        if r.iter().any(|v| !v.is_finite()) {
+            return Err(SolverError::BadInput(
+                "residual flexibility has non-finite values".into(),
+            ));
+        }
+        Ok(Residual {
+            inner,
+            r,
+            p_fixed: scene.body.iblo.then_some(scene.body.p0),
+            loads: vec![0.0; 6 * m],
+            rates: vec![0.0; 6 * m],
+            t_set: 0.0,
+        })
+    }
+
+    fn frame_p(&self) -> Matrix3<f64> {
+        match (self.p_fixed, self.inner.frame()) {
+            (Some(p), _) => p,
+            (None, Some(Frame { p, .. })) => Matrix3::from_row_slice(&p),
+            (None, None) => Matrix3::identity(),
+        }
+    }
+
+    /// Add `P R_(rows) P^T v` to `out` (3 per node): `rows` 0 for translations, 3 for
+    /// rotations; `v` is a global load-like vector given by `value(i)` for entry i.
+    fn add(&self, rows: usize, value: impl Fn(usize) -> f64, out: &mut [f64]) {
+        let p = self.frame_p();
+        let m = self.loads.len() / 6;
+        for i in 0..m.min(out.len() / 3) {
+            let mut acc = [0.0; 3];
+            for j in 0..m {
+                let mut g = [0.0; 6];
+                for half in 0..2 {
+                    for b in 0..3 {
+                        g[3 * half + b] = (0..3)
+                            .map(|a| p[(a, b)] * value(6 * j + 3 * half + a))
+                            .sum();
+                    }
+                }
+                for (b, acc_b) in acc.iter_mut().enumerate() {
+                    *acc_b += (0..6)
+                        .map(|c| self.r[(6 * i + rows + b, 6 * j + c)] * g[c])
+                        .sum::<f64>();
+                }
+            }
+            for a in 0..3 {
+                out[3 * i + a] += (0..3).map(|b| p[(a, b)] * acc[b]).sum::<f64>();
+            }
+        }
+    }
+
+    fn load(&self, k: usize) -> f64 {
+        self.loads[k] + self.rates[k] * (self.inner.time() - self.t_set)
+    }
+}
+
+impl Solver for Residual {
+    fn method(&self) -> Method {
+        self.inner.method()
+    }
+    fn time(&self) -> f64 {
+        self.inner.time()
+    }
+    fn set_loads(&mut self, loads: &[f64]) -> Result<(), SolverError> {
+        self.inner.set_loads(loads)?;
+        self.loads.copy_from_slice(loads);
+        self.t_set = self.inner.time();
+        Ok(())
+    }
+    fn set_load_rates(&mut self, rates: &[f64]) -> Result<(), SolverError> {
+        self.inner.set_load_rates(rates)?;
+        let now = self.inner.time();
+        let dt = now - self.t_set;
+        for (l, r) in self.loads.iter_mut().zip(self.rates.iter()) {
+            *l += r * dt;
+        }
+        self.t_set = now;
+        self.rates.copy_from_slice(rates);
+        Ok(())
+    }
+    fn step(&mut self, h: f64) -> Result<(), SolverError> {
+        self.inner.step(h)
+    }
+    fn positions(&self, out: &mut [f64]) {
+        self.inner.positions(out);
+        self.add(0, |k| self.load(k), out);
+    }
+    fn velocities(&self, out: &mut [f64]) {
+        self.inner.velocities(out);
+        self.add(0, |k| self.rates[k], out);
+    }
+    fn accelerations(&self, out: &mut [f64]) {
+        self.inner.accelerations(out);
+    }
+    fn rotation_rates(&self, out: &mut [f64]) {
+        self.inner.rotation_rates(out);
+        self.add(3, |k| self.rates[k], out);
+    }
+    fn modal(&self) -> &[f64] {
+        self.inner.modal()
+    }
+    fn strain_energy(&self) -> f64 {
+        // 1/2 g^T R g with g = P^T f node-wise (R is symmetric, positive semi-definite).
+        let p = self.frame_p();
+        let n = self.loads.len();
+        let g = |k: usize| -> f64 {
+            let (node, c) = (k / 6, k % 6);
+            let base = 6 * node + 3 * (c / 3);
+            (0..3).map(|a| p[(a, c % 3)] * self.load(base + a)).sum()
+        };
+        let mut e = 0.0;
+        for i in 0..n {
+            let gi = g(i);
+            if gi != 0.0 {
+                e += gi * (0..n).map(|j| self.r[(i, j)] * g(j)).sum::<f64>();
+            }
+        }
+        self.inner.strain_energy() + 0.5 * e
+    }
+    fn kinetic_energy(&self) -> f64 {
+        self.inner.kinetic_energy()
+    }
+    fn frame(&self) -> Option<Frame> {
+        self.inner.frame()
+    }
+    fn state(&self) -> State {
+        let mut s = self.inner.state();
+        s.data.push(self.t_set);
+        s.data.extend_from_slice(&self.loads);
+        s.data.extend_from_slice(&self.rates);
+        s
+    }
+    fn set_state(&mut self, state: &State) -> Result<(), SolverError> {
+        let tail = 1 + self.loads.len() + self.rates.len();
+        if state.data.len() < tail {
+            return Err(SolverError::BadState(format!(
+                "{} values, a truncated solver's state has at least {tail}",
+                state.data.len()
+            )));
+        }
+        let (head, rest) = state.data.split_at(state.data.len() - tail);
+        let inner = State {
+            method: state.method,
+            data: head.to_vec(),
+        };
+        self.inner.set_state(&inner)?;
+        let n = self.loads.len();
+        self.t_set = rest[0];
+        self.loads.copy_from_slice(&rest[1..1 + n]);
+        self.rates.copy_from_slice(&rest[1 + n..]);
+        Ok(())
+    }
+}
