@@ -382,7 +382,9 @@ impl Model {
             ));
         }
         let tol = TIME_TOL * t.abs().max(h).max(1e-300);
-        if (t - self.time).abs() > tol.max(1e-12 * self.time.abs()) {
+        // A NaN time compares false, so it is not close and is refused.
+        let close = (t - self.time).abs() <= tol.max(1e-12 * self.time.abs());
+        if !(t.is_finite() && close) {
             return Err(format!(
                 "currentCommunicationPoint {t} is not the FMU's current time {}",
                 self.time
