@@ -455,8 +455,20 @@ impl Model {
         }
     }
 
-    /// Restore a snapshot taken from a model of the same scene.
+    /// Restore a snapshot taken from a model of the same scene: all or nothing. A
+    /// snapshot with non-finite or out-of-range values is refused before anything
+    /// changes; one the solver refuses (wrong size) leaves the model as it was.
     pub fn restore(&mut self, snap: &Snapshot) -> Result<(), String> {
+        check_snapshot(snap)?;
+        let backup = self.snapshot(0);
+        self.restore_unchecked(snap).inspect_err(|_| {
+            // The backup came from this model, so it restores; if not, the caller
+            // reports the Error state anyway.
+            let _ = self.restore_unchecked(&backup);
+        })
+    }
+
+    fn restore_unchecked(&mut self, snap: &Snapshot) -> Result<(), String> {
         if snap.loads.len() != self.loads.len() || snap.rates.len() != self.rates.len() {
             return Err(format!(
                 "state holds {} loads, this FMU has {}",
@@ -501,6 +513,34 @@ impl Model {
         }
         Ok(())
     }
+}
+
+/// Refuse a snapshot whose numbers no running model can hold (only reachable with
+/// hand-made bytes: the checksum stops accidental damage).
+fn check_snapshot(snap: &Snapshot) -> Result<(), String> {
+    let finite = |what: &str, v: &[f64]| {
+        if v.iter().all(|x| x.is_finite()) {
+            Ok(())
+        } else {
+            Err(format!("saved state: {what} holds a non-finite number"))
+        }
+    };
+    finite("time", &[snap.time, snap.start_time])?;
+    finite("gravity, v0, w0", &[snap.gravity, snap.v0, snap.w0].concat())?;
+    finite("loads", &snap.loads)?;
+    finite("input rates", &snap.rates)?;
+    if !(0.0..=1.0).contains(&snap.rho_inf) {
+        return Err(format!("saved state: rho_inf {} is not in [0, 1]", snap.rho_inf));
+    }
+    if let Some(stop) = snap.stop_time
+        && (stop.is_nan() || stop < snap.start_time)
+    {
+        return Err(format!(
+            "saved state: stopTime {stop} is before startTime {}",
+            snap.start_time
+        ));
+    }
+    Ok(())
 }
 
 /// Whether `var` may be set in `phase`: never an output, parameters only before the end
