@@ -95,7 +95,8 @@ then echo "   no report attributable to the library ($((SECONDS - start)) s)"; e
 echo "== 4. misuse matrix and threads, $REPEAT times"
 start=$SECONDS
 for _ in $(seq "$REPEAT"); do
-    cargo test --release --test robust_fmi_misuse --test robust_threads -q 2>&1 \
+    cargo test --release --test robust_fmi_misuse --test robust_fmi_args \
+        --test robust_fmi_states --test robust_threads --test robust_c_valgrind -q 2>&1 \
         | grep -E "test result|panicked" | grep -v " 0 failed" && fail=1
 done
 echo "   $((SECONDS - start)) s"

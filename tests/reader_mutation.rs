@@ -50,7 +50,10 @@ unsafe impl GlobalAlloc for Counting {
         PEAK.fetch_max(live, Ordering::Relaxed);
         // SAFETY: ptr was allocated by System with this layout; same contract.
         let p = unsafe { System.realloc(ptr, layout, new_size) };
-        LIVE.fetch_sub(if p.is_null() { new_size } else { layout.size() }, Ordering::Relaxed);
+        LIVE.fetch_sub(
+            if p.is_null() { new_size } else { layout.size() },
+            Ordering::Relaxed,
+        );
         p
     }
 }
@@ -312,6 +315,11 @@ fn mutated_files_never_panic() {
         cases - valid - panics.len()
     );
     assert!(panics.is_empty(), "{} panics: {:?}", panics.len(), panics);
-    assert!(heavy.is_empty(), "{} over the heap bound: {:?}", heavy.len(), heavy);
+    assert!(
+        heavy.is_empty(),
+        "{} over the heap bound: {:?}",
+        heavy.len(),
+        heavy
+    );
     assert!(cases >= total);
 }

@@ -16,7 +16,15 @@ fn careless_c_master_and_short_valgrind_pass() {
     let fx = packed("cdriver");
     let exe = fx.dir.join("robust_driver");
     let cc = Command::new("cc")
-        .args(["-g", "-O1", "-Wall", "-Werror", "-std=c99", "-D_POSIX_C_SOURCE=200809L", "-I"])
+        .args([
+            "-g",
+            "-O1",
+            "-Wall",
+            "-Werror",
+            "-std=c99",
+            "-D_POSIX_C_SOURCE=200809L",
+            "-I",
+        ])
         .arg(root().join("include"))
         .arg(root().join("tests/c/robust_driver.c"))
         .arg("-o")
@@ -24,7 +32,11 @@ fn careless_c_master_and_short_valgrind_pass() {
         .args(["-ldl", "-lm"])
         .output()
         .expect("a C compiler `cc` on PATH");
-    assert!(cc.status.success(), "cc: {}", String::from_utf8_lossy(&cc.stderr));
+    assert!(
+        cc.status.success(),
+        "cc: {}",
+        String::from_utf8_lossy(&cc.stderr)
+    );
     let args = |steps: usize| {
         vec![
             fx.so.display().to_string(),
@@ -100,6 +112,9 @@ fn careless_c_master_and_short_valgrind_pass() {
     );
     println!(
         "C master: {checks} checks; under memcheck (100 steps): clean, {}",
-        String::from_utf8_lossy(&out.stdout).lines().next().unwrap_or("")
+        String::from_utf8_lossy(&out.stdout)
+            .lines()
+            .next()
+            .unwrap_or("")
     );
 }

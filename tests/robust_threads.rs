@@ -2,7 +2,10 @@
 //! another, which threads must reproduce bit for bit; first through the crate's exports,
 //! then through libraries loaded with `dlopen` (the same file, and a copy that is a
 //! separate library), loaded and unloaded while other instances run and are freed.
-#![cfg(all(target_os = "linux", any(target_arch = "x86_64", target_arch = "aarch64")))]
+#![cfg(all(
+    target_os = "linux",
+    any(target_arch = "x86_64", target_arch = "aarch64")
+))]
 
 mod robust_common;
 
@@ -35,10 +38,20 @@ fn direct(fx: &Packed, k: usize) -> Vec<f64> {
     assert_eq!(s.setup(0.0, None), fmi2OK);
     // SAFETY: a live instance.
     unsafe {
-        assert_eq!(fxbody::fmi::exports::fmi2EnterInitializationMode(s.c), fmi2OK);
-        assert_eq!(fxbody::fmi::exports::fmi2ExitInitializationMode(s.c), fmi2OK);
+        assert_eq!(
+            fxbody::fmi::exports::fmi2EnterInitializationMode(s.c),
+            fmi2OK
+        );
+        assert_eq!(
+            fxbody::fmi::exports::fmi2ExitInitializationMode(s.c),
+            fmi2OK
+        );
     }
-    let (f, y, vy) = (fx.vr("node_121.fy"), fx.vr("node_121.y"), fx.vr("node_121.vy"));
+    let (f, y, vy) = (
+        fx.vr("node_121.fy"),
+        fx.vr("node_121.y"),
+        fx.vr("node_121.vy"),
+    );
     let mut out = Vec::with_capacity(2 * STEPS);
     let mut o = [0.0; 2];
     for i in 0..STEPS {
@@ -63,7 +76,11 @@ fn loaded(fx: &Packed, so: &Path, k: usize, steps: usize) -> Vec<f64> {
     inst.setup(0.0, None).unwrap();
     inst.enter_init().unwrap();
     inst.exit_init().unwrap();
-    let (f, y, vy) = (fx.vr("node_121.fy"), fx.vr("node_121.y"), fx.vr("node_121.vy"));
+    let (f, y, vy) = (
+        fx.vr("node_121.fy"),
+        fx.vr("node_121.y"),
+        fx.vr("node_121.vy"),
+    );
     let mut out = Vec::with_capacity(2 * steps);
     let mut o = [0.0; 2];
     for i in 0..steps {
@@ -104,7 +121,9 @@ fn eight_threads_equal_eight_sequential_runs() {
         assert!(same_bits(&parallel[k], &sequential[k]), "thread {k}");
     }
     // The same through dlopen: eight threads each loading the library themselves.
-    let seq_dl: Vec<Vec<f64>> = (0..THREADS).map(|k| loaded(&fx, &fx.so, k, STEPS)).collect();
+    let seq_dl: Vec<Vec<f64>> = (0..THREADS)
+        .map(|k| loaded(&fx, &fx.so, k, STEPS))
+        .collect();
     let par_dl: Vec<Vec<f64>> = thread::scope(|sc| {
         let handles: Vec<_> = (0..THREADS)
             .map(|k| {
@@ -120,7 +139,10 @@ fn eight_threads_equal_eight_sequential_runs() {
     for k in 0..THREADS {
         assert!(same_bits(&par_dl[k], &seq_dl[k]), "dlopen thread {k}");
         // The loaded library is the same code as the crate: the same bits again.
-        assert!(same_bits(&seq_dl[k], &sequential[k]), "dlopen vs direct {k}");
+        assert!(
+            same_bits(&seq_dl[k], &sequential[k]),
+            "dlopen vs direct {k}"
+        );
     }
     println!(
         "threads: {THREADS} direct + {THREADS} dlopen instances x {STEPS} steps, bit-identical to sequential"

@@ -5,12 +5,14 @@
 //! afterwards to check nothing changed.
 #![allow(dead_code)]
 
+use std::collections::BTreeMap;
 use std::ffi::{CStr, CString, c_char, c_void};
 use std::path::PathBuf;
 use std::sync::Mutex;
 
 use fxbody::fmi::exports as x;
 use fxbody::fmi::instance::Instance as Inner;
+use fxbody::fmi::state::FmiState;
 use fxbody::fmi::types::*;
 use fxbody::fmu::pack::{PackRequest, Prepared, find_library, pack};
 
@@ -359,4 +361,73 @@ pub fn run(s: &Slave, fx: &Packed, k0: usize, n: usize) -> Result<Vec<f64>, Stri
 /// Bitwise equality of two result series (NaN-safe, -0.0 distinct).
 pub fn same_bits(a: &[f64], b: &[f64]) -> bool {
     a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
+}
+
+/// Steps run before a misuse, and after it.
+pub const BEFORE: usize = 5;
+pub const AFTER: usize = 5;
+
+/// The undisturbed twin: BEFORE + AFTER steps from a fresh start.
+pub fn reference(fx: &Packed) -> Vec<f64> {
+    let r = run(&Slave::started(fx, None), fx, 0, BEFORE + AFTER).unwrap();
+    assert!(r.iter().any(|v| v.abs() > 1e-9), "a real response: {r:?}");
+    r
+}
+
+pub fn print_counts(what: &str, counts: &BTreeMap<&str, usize>) {
+    let total: usize = counts.values().sum();
+    for (k, n) in counts {
+        println!("{what}: {k}: {n}");
+    }
+    println!("{what}: total {total}");
+}
+
+/// A slave after BEFORE steps, its saved state and fingerprint.
+pub struct Midway {
+    pub s: Slave,
+    pub saved: fmi2FMUstate,
+    pub print: Vec<u8>,
+}
+
+pub fn midway(fx: &Packed, stop: Option<f64>) -> Midway {
+    let s = Slave::started(fx, stop);
+    run(&s, fx, 0, BEFORE).unwrap();
+    let saved = s.get_state();
+    let print = s.fingerprint();
+    Midway { s, saved, print }
+}
+
+impl Midway {
+    /// The refused call left the model untouched: the fingerprint is the same, and
+    /// (white box) allowed to continue, the next steps equal the twin's bit for bit;
+    /// then the FMI way out, SetFMUstate, gives the same bits again.
+    pub fn unchanged(&self, fx: &Packed, twin: &[f64], what: &str) {
+        let s = &self.s;
+        assert!(s.fingerprint() == self.print, "{what}: model changed");
+        if s.fmi_state() == FmiState::Error {
+            s.force_state(FmiState::StepComplete);
+        }
+        let cont = run(s, fx, BEFORE, AFTER).unwrap();
+        assert!(same_bits(&cont, &twin[BEFORE..]), "{what}: {cont:?}");
+        assert_eq!(s.set_state(self.saved), fmi2OK);
+        let again = run(s, fx, BEFORE, AFTER).unwrap();
+        assert!(same_bits(&again, &twin[BEFORE..]), "{what} (restored)");
+        assert_eq!(s.set_state(self.saved), fmi2OK);
+    }
+
+    /// A call refused with fmi2Error and a logged reason holding `says`.
+    pub fn refused(&self, st: fmi2Status, says: &str, what: &str) {
+        assert_eq!(st, fmi2Error, "{what}");
+        assert_eq!(self.s.fmi_state(), FmiState::Error, "{what}");
+        let e = self.s.last_error();
+        assert!(e.contains(says), "{what}: logged '{e}', expected '{says}'");
+    }
+}
+
+impl Drop for Midway {
+    fn drop(&mut self) {
+        let mut s = self.saved;
+        // SAFETY: the live state of this instance, freed once.
+        unsafe { x::fmi2FreeFMUstate(self.s.c, &mut s) };
+    }
 }
