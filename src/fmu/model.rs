@@ -310,7 +310,12 @@ impl Model {
     }
 
     /// Set input derivatives: all or none, like [`Model::set_reals`].
-    pub fn set_input_rates(&mut self, vrs: &[u32], orders: &[i32], vals: &[f64]) -> Result<(), String> {
+    pub fn set_input_rates(
+        &mut self,
+        vrs: &[u32],
+        orders: &[i32],
+        vals: &[f64],
+    ) -> Result<(), String> {
         for pass in 0..2 {
             for ((&r, &o), &v) in vrs.iter().zip(orders).zip(vals) {
                 let slot = self.input_rate_slot(r, o, v)?;
@@ -526,11 +531,17 @@ fn check_snapshot(snap: &Snapshot) -> Result<(), String> {
         }
     };
     finite("time", &[snap.time, snap.start_time])?;
-    finite("gravity, v0, w0", &[snap.gravity, snap.v0, snap.w0].concat())?;
+    finite(
+        "gravity, v0, w0",
+        &[snap.gravity, snap.v0, snap.w0].concat(),
+    )?;
     finite("loads", &snap.loads)?;
     finite("input rates", &snap.rates)?;
     if !(0.0..=1.0).contains(&snap.rho_inf) {
-        return Err(format!("saved state: rho_inf {} is not in [0, 1]", snap.rho_inf));
+        return Err(format!(
+            "saved state: rho_inf {} is not in [0, 1]",
+            snap.rho_inf
+        ));
     }
     if let Some(stop) = snap.stop_time
         && (stop.is_nan() || stop < snap.start_time)
