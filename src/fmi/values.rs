@@ -121,10 +121,7 @@ pub unsafe extern "C" fn fmi2SetReal(
         let vrs = unsafe { slice(vr, nvr, "vr") }?;
         // SAFETY: `value` holds `nvr` reals.
         let vals = unsafe { slice(value, nvr, "value") }?;
-        let ph = phase(inst.state);
-        for (&r, &v) in vrs.iter().zip(vals) {
-            inst.model.set_real(r, v, ph)?;
-        }
+        inst.model.set_reals(vrs, vals, phase(inst.state))?;
         Ok(fmi2OK)
     })
 }
@@ -145,10 +142,7 @@ pub unsafe extern "C" fn fmi2SetInteger(
         let vrs = unsafe { slice(vr, nvr, "vr") }?;
         // SAFETY: `value` holds `nvr` integers.
         let vals = unsafe { slice(value, nvr, "value") }?;
-        let ph = phase(inst.state);
-        for (&r, &v) in vrs.iter().zip(vals) {
-            inst.model.set_integer(r, v, ph)?;
-        }
+        inst.model.set_integers(vrs, vals, phase(inst.state))?;
         Ok(fmi2OK)
     })
 }
@@ -244,9 +238,7 @@ pub unsafe extern "C" fn fmi2SetRealInputDerivatives(
                     slice(value, nvr, "value")?,
                 )
             };
-            for ((&r, &o), &v) in vrs.iter().zip(ords).zip(vals) {
-                inst.model.set_input_rate(r, o, v)?;
-            }
+            inst.model.set_input_rates(vrs, ords, vals)?;
             Ok(fmi2OK)
         },
     )

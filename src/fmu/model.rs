@@ -143,8 +143,8 @@ impl Model {
         })
     }
 
-    /// Set a Real variable.
-    pub fn set_real(&mut self, vr: u32, v: f64, phase: Phase) -> Result<(), String> {
+    /// Whether [`Model::set_real`] would accept `v` for `vr`, without changing anything.
+    pub fn check_real(&self, vr: u32, v: f64, phase: Phase) -> Result<(), String> {
         // No clone of the variable: this runs on every fmi2SetReal and must not allocate.
         let var = self.var(vr)?;
         if var.is_integer() {
@@ -157,11 +157,32 @@ impl Model {
         if !v.is_finite() {
             return Err(format!("{}: value must be finite, got {v}", var.name));
         }
+        if var.kind == Kind::RhoInf && !(0.0..=1.0).contains(&v) {
+            return Err(format!("rho_inf must be in [0, 1], got {v}"));
+        }
+        Ok(())
+    }
+
+    /// Set Real variables: all or none (a refused value leaves every variable as it
+    /// was, so a master's error does not half-apply a set of loads).
+    pub fn set_reals(&mut self, vrs: &[u32], vals: &[f64], phase: Phase) -> Result<(), String> {
+        for (&r, &v) in vrs.iter().zip(vals) {
+            self.check_real(r, v, phase)?;
+        }
+        for (&r, &v) in vrs.iter().zip(vals) {
+            self.set_real(r, v, phase)?;
+        }
+        Ok(())
+    }
+
+    /// Set a Real variable.
+    pub fn set_real(&mut self, vr: u32, v: f64, phase: Phase) -> Result<(), String> {
+        self.check_real(vr, v, phase)?;
+        let Some(var) = self.table.get(vr) else {
+            return Err(format!("unknown value reference {vr}"));
+        };
         match var.kind {
             Kind::RhoInf => {
-                if !(0.0..=1.0).contains(&v) {
-                    return Err(format!("rho_inf must be in [0, 1], got {v}"));
-                }
                 self.opts.rho_inf = v;
                 self.dirty = true;
             }
@@ -185,6 +206,18 @@ impl Model {
                 }
             }
             _ => unreachable!("check_settable refuses outputs"),
+        }
+        Ok(())
+    }
+
+    /// Set Integer variables: all or none, like [`Model::set_reals`].
+    pub fn set_integers(&mut self, vrs: &[u32], vals: &[i32], phase: Phase) -> Result<(), String> {
+        let (method, dirty) = (self.method, self.dirty);
+        for (&r, &v) in vrs.iter().zip(vals) {
+            if let Err(e) = self.set_integer(r, v, phase) {
+                (self.method, self.dirty) = (method, dirty);
+                return Err(e);
+            }
         }
         Ok(())
     }
@@ -285,9 +318,26 @@ impl Model {
         Ok(self.method as i32)
     }
 
-    /// Set the time derivative of order 1 of an input (fmi2SetRealInputDerivatives).
-    /// It applies to the next step only: each doStep clears the rates.
-    pub fn set_input_rate(&mut self, vr: u32, order: i32, v: f64) -> Result<(), String> {
+    /// Set input derivatives: all or none, like [`Model::set_reals`].
+    pub fn set_input_rates(
+        &mut self,
+        vrs: &[u32],
+        orders: &[i32],
+        vals: &[f64],
+    ) -> Result<(), String> {
+        for pass in 0..2 {
+            for ((&r, &o), &v) in vrs.iter().zip(orders).zip(vals) {
+                let slot = self.input_rate_slot(r, o, v)?;
+                if pass == 1 {
+                    self.rates[slot] = v;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Where the input rate for `vr` goes, if `order` and `v` are acceptable.
+    fn input_rate_slot(&self, vr: u32, order: i32, v: f64) -> Result<usize, String> {
         let var = self.var(vr)?;
         let Kind::Load { node, comp } = var.kind else {
             return Err(format!(
@@ -304,7 +354,14 @@ impl Model {
         if !v.is_finite() {
             return Err(format!("{}: derivative must be finite, got {v}", var.name));
         }
-        self.rates[6 * node + comp] = v;
+        Ok(6 * node + comp)
+    }
+
+    /// Set the time derivative of order 1 of an input (fmi2SetRealInputDerivatives).
+    /// It applies to the next step only: each doStep clears the rates.
+    pub fn set_input_rate(&mut self, vr: u32, order: i32, v: f64) -> Result<(), String> {
+        let slot = self.input_rate_slot(vr, order, v)?;
+        self.rates[slot] = v;
         Ok(())
     }
 
@@ -339,7 +396,9 @@ impl Model {
             ));
         }
         let tol = TIME_TOL * t.abs().max(h).max(1e-300);
-        if (t - self.time).abs() > tol.max(1e-12 * self.time.abs()) {
+        // A NaN time compares false, so it is not close and is refused.
+        let close = (t - self.time).abs() <= tol.max(1e-12 * self.time.abs());
+        if !(t.is_finite() && close) {
             return Err(format!(
                 "currentCommunicationPoint {t} is not the FMU's current time {}",
                 self.time
@@ -410,8 +469,20 @@ impl Model {
         }
     }
 
-    /// Restore a snapshot taken from a model of the same scene.
+    /// Restore a snapshot taken from a model of the same scene: all or nothing. A
+    /// snapshot with non-finite or out-of-range values is refused before anything
+    /// changes; one the solver refuses (wrong size) leaves the model as it was.
     pub fn restore(&mut self, snap: &Snapshot) -> Result<(), String> {
+        check_snapshot(snap)?;
+        let backup = self.snapshot(0);
+        self.restore_unchecked(snap).inspect_err(|_| {
+            // The backup came from this model, so it restores; if not, the caller
+            // reports the Error state anyway.
+            let _ = self.restore_unchecked(&backup);
+        })
+    }
+
+    fn restore_unchecked(&mut self, snap: &Snapshot) -> Result<(), String> {
         if snap.loads.len() != self.loads.len() || snap.rates.len() != self.rates.len() {
             return Err(format!(
                 "state holds {} loads, this FMU has {}",
@@ -456,6 +527,40 @@ impl Model {
         }
         Ok(())
     }
+}
+
+/// Refuse a snapshot whose numbers no running model can hold (only reachable with
+/// hand-made bytes: the checksum stops accidental damage).
+fn check_snapshot(snap: &Snapshot) -> Result<(), String> {
+    let finite = |what: &str, v: &[f64]| {
+        if v.iter().all(|x| x.is_finite()) {
+            Ok(())
+        } else {
+            Err(format!("saved state: {what} holds a non-finite number"))
+        }
+    };
+    finite("time", &[snap.time, snap.start_time])?;
+    finite(
+        "gravity, v0, w0",
+        &[snap.gravity, snap.v0, snap.w0].concat(),
+    )?;
+    finite("loads", &snap.loads)?;
+    finite("input rates", &snap.rates)?;
+    if !(0.0..=1.0).contains(&snap.rho_inf) {
+        return Err(format!(
+            "saved state: rho_inf {} is not in [0, 1]",
+            snap.rho_inf
+        ));
+    }
+    if let Some(stop) = snap.stop_time
+        && (stop.is_nan() || stop < snap.start_time)
+    {
+        return Err(format!(
+            "saved state: stopTime {stop} is before startTime {}",
+            snap.start_time
+        ));
+    }
+    Ok(())
 }
 
 /// Whether `var` may be set in `phase`: never an output, parameters only before the end

@@ -1,0 +1,156 @@
+"""A careless fmpy master (issue 9): illegal calls, NaN forces, bad steps, outputs set,
+unknown value references, random and truncated serialised states, '%' in the instance
+name, each refusal recovered by reset or setFMUstate, then a run with a state saved,
+serialised and restored on the way. Reference: a clean instance in the same process
+running the same loads, which the misused one must match bit for bit.
+
+Run as a script, it is the fmpy driver that scripts/robust-long.sh runs under valgrind:
+    python tests/python/test_robust_fmpy.py FMU_OR_UNZIPPED_DIR --steps 20000
+"""
+
+import argparse
+import math
+import random
+import struct
+import subprocess
+import sys
+import zipfile
+from pathlib import Path
+
+H = 1e-4
+
+
+def force(t):
+    return math.sin(300.0 * t) + 0.25
+
+
+def slave(unzipped, md, name):
+    from fmpy.fmi2 import FMU2Slave
+
+    s = FMU2Slave(guid=md.guid, unzipDirectory=str(unzipped),
+                  modelIdentifier=md.coSimulation.modelIdentifier, instanceName=name)
+    s.instantiate()
+    return s
+
+
+def refused(call, *args):
+    """The call must raise (fmpy raises on any status above Warning)."""
+    try:
+        call(*args)
+    except Exception:  # fmpy raises FMICallException; anything else is a failure too
+        return 1
+    raise AssertionError(f"{call.__name__}{args!r} was accepted")
+
+
+def drive(unzipped, steps, seed=1):
+    """Run the misused and the clean instance; returns (misuse count, their outputs)."""
+    from fmpy import read_model_description
+
+    md = read_model_description(str(unzipped))
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    fy, y = vr["node_121.fy"], vr["node_121.y"]
+    bad = slave(unzipped, md, "fmpy 100%s %n %d%%")
+    clean = slave(unzipped, md, "clean")
+    n = 0
+    # Illegal in Instantiated: each refusal, then reset.
+    for call, args in [(bad.doStep, (0.0, H)), (bad.getReal, ([y],)),
+                       (bad.exitInitializationMode, ()), (bad.terminate, ())]:
+        n += refused(call, *args)
+        bad.reset()
+    for s in (bad, clean):
+        s.setupExperiment(startTime=0.0)
+        s.enterInitializationMode()
+        s.exitInitializationMode()
+    saved = bad.getFMUstate()
+    good_bytes = bad.serializeFMUstate(saved)
+    rng = random.Random(seed)
+    misuse = [
+        (bad.setReal, ([fy], [float("nan")])),
+        (bad.setReal, ([fy], [float("inf")])),
+        (bad.setReal, ([fy, y], [1.0, 2.0])),
+        (bad.setReal, ([10**6], [1.0])),
+        (bad.getReal, ([10**6],)),
+        (bad.doStep, (0.0, 0.0)),
+        (bad.doStep, (0.0, -H)),
+        (bad.doStep, (1.0, H)),
+        (bad.doStep, (float("nan"), H)),
+        (bad.doStep, (float("inf"), H)),
+        (bad.enterInitializationMode, ()),
+        (bad.deSerializeFMUstate, (b"",)),
+        (bad.deSerializeFMUstate, (good_bytes[:-1],)),
+        (bad.deSerializeFMUstate, (good_bytes[:len(good_bytes) // 2],)),
+        (bad.deSerializeFMUstate, (b"FXBSTATE" + bytes(64),)),
+    ]
+    for k in range(0, len(good_bytes), 13):
+        flipped = bytearray(good_bytes)
+        flipped[k] ^= 0xFF
+        misuse.append((bad.deSerializeFMUstate, (bytes(flipped),)))
+    for _ in range(50):
+        misuse.append((bad.deSerializeFMUstate,
+                       (bytes(rng.getrandbits(8) for _ in range(rng.randrange(2048))),)))
+    for call, args in misuse:
+        n += refused(call, *args)
+        bad.setFMUstate(saved)
+    # nvr = 0 is fine.
+    bad.setReal([], [])
+    assert list(bad.getReal([])) == []
+    out_bad, out_clean = [], []
+    t = 0.0
+    for k in range(steps):
+        f = force(t)
+        for s, out in ((bad, out_bad), (clean, out_clean)):
+            s.setReal([fy], [f])
+            s.doStep(t, H)
+            out.append(s.getReal([y])[0])
+        if k == steps // 2:
+            # Save, serialise, step on, restore the bytes, redo the step: same bits.
+            mid = bad.getFMUstate()
+            copy = bad.deSerializeFMUstate(bad.serializeFMUstate(mid))
+            bad.setReal([fy], [force(t + H)])
+            bad.doStep(t + H, H)
+            bad.setFMUstate(copy)
+            bad.freeFMUstate(copy)
+            bad.freeFMUstate(mid)
+        t = (k + 1) * H
+    bad.freeFMUstate(saved)
+    for s in (bad, clean):
+        s.terminate()
+        s.freeInstance()
+    return n, out_bad, out_clean
+
+
+def unzip(fmu, where):
+    with zipfile.ZipFile(fmu) as z:
+        z.extractall(where)
+    return Path(where)
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("fmu", help="a packed .fmu (cantilever, tip node 121) or its unzipped folder")
+    ap.add_argument("--steps", type=int, default=200)
+    a = ap.parse_args(argv)
+    path = Path(a.fmu)
+    if path.is_file():
+        import tempfile
+        path = unzip(path, tempfile.mkdtemp(prefix="fxbody_robust_fmpy_"))
+    n, out_bad, out_clean = drive(path, a.steps)
+    same = all(struct.pack("<d", p) == struct.pack("<d", q) for p, q in zip(out_bad, out_clean))
+    print(f"fmpy misuse cases refused: {n}; {a.steps} steps; misused == clean bit for bit: {same}")
+    return 0 if same and len(out_bad) == a.steps else 1
+
+
+def test_careless_fmpy_master(cantilever_tip, tmp_path):
+    """In a child process, so that a crash shows as a signal rather than killing pytest."""
+    fmu, _ = cantilever_tip
+    run = subprocess.run([sys.executable, __file__, str(fmu), "--steps", "300"],
+                         capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stdout + run.stderr
+    assert "bit for bit: True" in run.stdout, run.stdout
+    # Every misuse was refused (the count: 4 illegal calls, 15 listed, 50 random, flips).
+    count = int(run.stdout.split("refused: ")[1].split(";")[0])
+    assert count >= 4 + 15 + 50, run.stdout
+
+
+if __name__ == "__main__":
+    sys.exit(main())
