@@ -48,6 +48,11 @@ const MAX_ITER: usize = 40;
 /// oscillate without decay; measured on a tumbling test body: energy error 1e-4 after
 /// 1,000 steps, then growth and divergence, while 0.99 stays at 1e-6.
 pub const MAX_RHO: f64 = 0.99;
+/// Keep the iteration matrix across Newton iterations (modified Newton).
+const MODIFIED_NEWTON: bool = false;
+/// With modified Newton, rebuild the iteration matrix when an update is larger than this
+/// fraction of the previous one (slow contraction).
+const REFRESH_RATIO: f64 = 0.1;
 /// Largest number of halvings of a communication step.
 const MAX_SPLIT: u32 = 12;
 
@@ -114,6 +119,8 @@ struct Work {
     lkey: Option<(f64, f64)>,
     ykl: Vec<DMatrix<f64>>,
     y: DMatrix<f64>,
+    /// `M_C + bt K_C` of the factored matrix, row-major `nr x nl`.
+    arl: Vec<f64>,
     z: Vec<f64>,
     /// Saved state for a step that has to be split.
     save: [DVector<f64>; 5],
@@ -155,6 +162,7 @@ impl Implicit {
             lkey: None,
             ykl: vec![DMatrix::zeros(nl, nr); 9],
             y: DMatrix::zeros(nl, nr),
+            arl: vec![0.0; nr * nl],
             z: vec![0.0; nl],
             save: [
                 z.clone(),
@@ -214,8 +222,8 @@ impl Implicit {
             for i in 0..nr {
                 s += w.mc[(i, j)] * m.s_grav[i];
             }
-            for k in 0..nl {
-                s -= m.k_l[(j, k)] * (alpha[k] + m.ray_b * vl[k]);
+            for (k, &kjk) in m.k_l_rows[j * nl..(j + 1) * nl].iter().enumerate() {
+                s -= kjk * (alpha[k] + m.ray_b * vl[k]);
             }
             w.res[nr + j] = s;
         }
@@ -248,7 +256,7 @@ impl Implicit {
                 w.res[row] = sc * bd[r];
             }
         }
-        self.schur_solve(&p, 0.0, 0.0)?;
+        self.schur_solve(&p, 0.0, 0.0, true)?;
         let w = &mut self.w;
         for i in 0..nq {
             self.acc[i] = w.res[i];
@@ -275,6 +283,10 @@ impl Implicit {
         self.w.lam.copy_from(&self.lam);
         let sc = self.m.mass_scale;
         let mut converged = false;
+        // Modified Newton: the iteration matrix of the first iteration is kept while the
+        // updates shrink fast; it is rebuilt when they stop doing so.
+        let mut refresh = true;
+        let mut dprev = f64::INFINITY;
         for _ in 0..MAX_ITER {
             let m = &self.m;
             let w = &mut self.w;
@@ -290,8 +302,10 @@ impl Implicit {
             m.frame_matrices(&p, &mut w.mc, &mut w.kc);
             m.project_loads(&self.loads, t1, &p, &mut w.f_r, &mut w.f_l);
             // Iteration matrix: M + gt D + bt K_t, constraint rows.
-            w.kkt.clear();
-            fill_mass(m, &mut w.kkt);
+            if refresh {
+                w.kkt.clear();
+                fill_mass(m, &mut w.kkt);
+            }
             // Residual of the dynamic equations, R1 = M x - F - A^T lambda (negated in res).
             let alpha = w.qn.rows(nr, nl);
             for i in 0..nr {
@@ -309,8 +323,8 @@ impl Implicit {
                 for i in 0..nr {
                     s += w.mc[(i, j)] * (m.s_grav[i] - w.x[i]);
                 }
-                for k in 0..nl {
-                    s -= m.k_l[(j, k)] * (alpha[k] + m.ray_b * w.vn[nr + k]);
+                for (k, &kjk) in m.k_l_rows[j * nl..(j + 1) * nl].iter().enumerate() {
+                    s -= kjk * (alpha[k] + m.ray_b * w.vn[nr + k]);
                 }
                 w.res[nr + j] = s;
             }
@@ -328,6 +342,9 @@ impl Implicit {
                     // Force term A^T lambda and its derivative (constraint Hessian).
                     w.res[oa] += g * lam;
                     w.res[ob] -= g * lam;
+                    if !refresh {
+                        continue;
+                    }
                     *w.kkt.at(oa, oa) -= bt * 2.0 * lam;
                     *w.kkt.at(ob, ob) -= bt * 2.0 * lam;
                     *w.kkt.at(oa, ob) += bt * 2.0 * lam;
@@ -348,16 +365,20 @@ impl Implicit {
                     for (i, &bri) in bm[r].iter().enumerate() {
                         g += bri * vn[i];
                         w.res[i] += bri * lam;
-                        *w.kkt.at(kr, i) -= sc * bri;
-                        *w.kkt.at(i, kr) -= sc * bri;
+                        if refresh {
+                            *w.kkt.at(kr, i) -= sc * bri;
+                            *w.kkt.at(i, kr) -= sc * bri;
+                        }
                     }
                     w.res[12 + r] -= lam;
-                    *w.kkt.at(kr, 12 + r) += sc;
-                    *w.kkt.at(12 + r, kr) += sc;
+                    if refresh {
+                        *w.kkt.at(kr, 12 + r) += sc;
+                        *w.kkt.at(12 + r, kr) += sc;
+                    }
                     w.res[row] = sc * g / gt;
                 }
             }
-            self.schur_solve(&p, bt, gt)?;
+            self.schur_solve(&p, bt, gt, refresh)?;
             let w = &mut self.w;
             let mut dmax: f64 = 0.0;
             let mut xmax: f64 = 0.0;
@@ -381,6 +402,8 @@ impl Implicit {
                 converged = true;
                 break;
             }
+            refresh = !MODIFIED_NEWTON || dmax > REFRESH_RATIO * dprev;
+            dprev = dmax;
         }
         if !converged {
             return Err(SolverError::Singular(format!(
@@ -411,11 +434,20 @@ impl Implicit {
     /// sub-blocks; each iteration then costs O(nL (nR + nL)) plus the small
     /// (nR + constraints) solve, instead of a dense solve of the whole system.
     /// On return `w.res` holds `[dx_R; dx_L; dlambda / mass_scale]`.
-    fn schur_solve(&mut self, p: &Matrix3<f64>, bt: f64, gt: f64) -> Result<(), SolverError> {
+    ///
+    /// With `refresh` false the matrix factored by the last call is used again (modified
+    /// Newton: only the right side is new) and `w.kkt` is not read.
+    fn schur_solve(
+        &mut self,
+        p: &Matrix3<f64>,
+        bt: f64,
+        gt: f64,
+        refresh: bool,
+    ) -> Result<(), SolverError> {
         let m = &self.m;
         let w = &mut self.w;
         let (nr, nl, nq, nc) = (m.nr, m.nl, m.nq(), m.nc());
-        if w.lkey != Some((bt, gt)) {
+        if refresh && w.lkey != Some((bt, gt)) {
             w.lfac.clear();
             for j in 0..nl {
                 for k in 0..nl {
@@ -442,47 +474,56 @@ impl Implicit {
             }
             w.lkey = Some((bt, gt));
         }
-        // Y = L^-1 M_C^T with M_C = sum P_kl M_C,kl.
-        w.y.fill(0.0);
-        for k in 0..3 {
-            for l in 0..3 {
-                let pk = p[(k, l)];
-                for (a, b) in
-                    w.y.as_mut_slice()
-                        .iter_mut()
-                        .zip(w.ykl[3 * k + l].as_slice())
-                {
-                    *a += pk * b;
+        if refresh {
+            // Y = L^-1 M_C^T with M_C = sum P_kl M_C,kl.
+            w.y.fill(0.0);
+            for k in 0..3 {
+                for l in 0..3 {
+                    let pk = p[(k, l)];
+                    for (a, b) in
+                        w.y.as_mut_slice()
+                            .iter_mut()
+                            .zip(w.ykl[3 * k + l].as_slice())
+                    {
+                        *a += pk * b;
+                    }
                 }
+            }
+            // A_RL = M_C + bt K_C, row-major.
+            for i in 0..nr {
+                for j in 0..nl {
+                    w.arl[i * nl + j] = w.mc[(i, j)] + bt * w.kc[(i, j)];
+                }
+            }
+            // Reduced matrix: A_RR - A_RL Y.
+            for k in 0..nr {
+                let yk = &w.y.as_slice()[k * nl..(k + 1) * nl];
+                for i in 0..nr {
+                    let mut s = 0.0;
+                    for (&a, &yjk) in w.arl[i * nl..(i + 1) * nl].iter().zip(yk) {
+                        s += a * yjk;
+                    }
+                    *w.kkt.at(i, k) -= s;
+                }
+            }
+            let ratio = w.kkt.factor();
+            if ratio.is_nan() || ratio <= SINGULAR_RATIO {
+                return Err(singular_error(ratio));
             }
         }
         // z = L^-1 r_L.
         w.z.copy_from_slice(&w.res[nr..nq]);
         w.lfac.solve(&mut w.z);
-        // Reduced system: (A_RR - A_RL Y) dx_R - A^T dl = r_R - A_RL z, A_RL = M_C + bt K_C.
+        // Reduced system: (A_RR - A_RL Y) dx_R - A^T dl = r_R - A_RL z.
         for i in 0..nr {
             let mut r = w.res[i];
-            for j in 0..nl {
-                r -= (w.mc[(i, j)] + bt * w.kc[(i, j)]) * w.z[j];
+            for (&a, &zj) in w.arl[i * nl..(i + 1) * nl].iter().zip(&w.z) {
+                r -= a * zj;
             }
             w.small[i] = r;
         }
         for r in 0..nc {
             w.small[nr + r] = w.res[nq + r];
-        }
-        for k in 0..nr {
-            let yk = &w.y.as_slice()[k * nl..(k + 1) * nl];
-            for i in 0..nr {
-                let mut s = 0.0;
-                for (j, &yjk) in yk.iter().enumerate() {
-                    s += (w.mc[(i, j)] + bt * w.kc[(i, j)]) * yjk;
-                }
-                *w.kkt.at(i, k) -= s;
-            }
-        }
-        let ratio = w.kkt.factor();
-        if ratio.is_nan() || ratio <= SINGULAR_RATIO {
-            return Err(singular_error(ratio));
         }
         w.kkt.solve(&mut w.small);
         // Back substitution: dx_L = z - Y dx_R.
