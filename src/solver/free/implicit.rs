@@ -49,7 +49,7 @@ const MAX_ITER: usize = 40;
 /// 1,000 steps, then growth and divergence, while 0.99 stays at 1e-6.
 pub const MAX_RHO: f64 = 0.99;
 /// Keep the iteration matrix across Newton iterations (modified Newton).
-const MODIFIED_NEWTON: bool = false;
+const MODIFIED_NEWTON: bool = true;
 /// With modified Newton, rebuild the iteration matrix when an update is larger than this
 /// fraction of the previous one (slow contraction).
 const REFRESH_RATIO: f64 = 0.1;
