@@ -313,10 +313,17 @@ impl Implicit {
                 for k in 0..nr {
                     s -= m.m_r[(i, k)] * w.x[k];
                 }
-                for j in 0..nl {
-                    s -= w.mc[(i, j)] * w.x[nr + j] + w.kc[(i, j)] * alpha[j];
-                }
                 w.res[i] = s;
+            }
+            // Column by column (contiguous in M_C and K_C); each row still subtracts the
+            // terms in the order j = 0, 1, ...
+            for j in 0..nl {
+                let (xj, aj) = (w.x[nr + j], alpha[j]);
+                let mcj = &w.mc.as_slice()[j * nr..(j + 1) * nr];
+                let kcj = &w.kc.as_slice()[j * nr..(j + 1) * nr];
+                for ((r, &mij), &kij) in w.res[..nr].iter_mut().zip(mcj).zip(kcj) {
+                    *r -= mij * xj + kij * aj;
+                }
             }
             for j in 0..nl {
                 let mut s = w.f_l[j] - m.m_l[j] * w.x[nr + j] - m.ray_a * m.m_l[j] * w.vn[nr + j];
