@@ -325,13 +325,22 @@ impl Implicit {
                     *r -= mij * xj + kij * aj;
                 }
             }
+            // Local rows; the per-row factors (s - x_R) and (alpha + beta v_L) are formed
+            // once, in `small` and `z`, which are free until the solve.
+            for i in 0..nr {
+                w.small[i] = m.s_grav[i] - w.x[i];
+            }
+            for k in 0..nl {
+                w.z[k] = alpha[k] + m.ray_b * w.vn[nr + k];
+            }
             for j in 0..nl {
                 let mut s = w.f_l[j] - m.m_l[j] * w.x[nr + j] - m.ray_a * m.m_l[j] * w.vn[nr + j];
-                for i in 0..nr {
-                    s += w.mc[(i, j)] * (m.s_grav[i] - w.x[i]);
+                let mcj = &w.mc.as_slice()[j * nr..(j + 1) * nr];
+                for (&mij, &gi) in mcj.iter().zip(&w.small[..nr]) {
+                    s += mij * gi;
                 }
-                for (k, &kjk) in m.k_l_rows[j * nl..(j + 1) * nl].iter().enumerate() {
-                    s -= kjk * (alpha[k] + m.ray_b * w.vn[nr + k]);
+                for (&kjk, &uk) in m.k_l_rows[j * nl..(j + 1) * nl].iter().zip(&w.z) {
+                    s -= kjk * uk;
                 }
                 w.res[nr + j] = s;
             }
@@ -537,12 +546,14 @@ impl Implicit {
         for i in 0..nr {
             w.res[i] = w.small[i];
         }
-        for j in 0..nl {
-            let mut s = w.z[j];
-            for i in 0..nr {
-                s -= w.y[(j, i)] * w.small[i];
+        // Column by column of Y (contiguous); each row subtracts in the order i = 0, 1, ...
+        w.res[nr..nq].copy_from_slice(&w.z);
+        for i in 0..nr {
+            let si = w.small[i];
+            let yi = &w.y.as_slice()[i * nl..(i + 1) * nl];
+            for (r, &yji) in w.res[nr..nq].iter_mut().zip(yi) {
+                *r -= yji * si;
             }
-            w.res[nr + j] = s;
         }
         for r in 0..nc {
             w.res[nq + r] = w.small[nr + r];

@@ -334,22 +334,19 @@ impl Model {
 
     /// `M_C = sum_kl P_kl M_C,kl` and `K_C = sum_kl P_lk K_C,kl` (transposed P element).
     pub fn frame_matrices(&self, p: &Matrix3<f64>, mc: &mut DMatrix<f64>, kc: &mut DMatrix<f64>) {
-        mc.fill(0.0);
-        kc.fill(0.0);
+        // One pass per output entry over the nine sub-blocks (terms added in the order
+        // kl = 00, 01, ..., 22), instead of nine passes over the output.
+        let len = mc.len();
+        let mut pm = [0.0; 9];
+        let mut pk = [0.0; 9];
         for k in 0..3 {
             for l in 0..3 {
-                let idx = 3 * k + l;
-                let (pm, pk) = (p[(k, l)], p[(l, k)]);
-                let src = self.m_c_kl[idx].as_slice();
-                for (x, y) in mc.as_mut_slice().iter_mut().zip(src) {
-                    *x += pm * y;
-                }
-                let src = self.k_c_kl[idx].as_slice();
-                for (x, y) in kc.as_mut_slice().iter_mut().zip(src) {
-                    *x += pk * y;
-                }
+                pm[3 * k + l] = p[(k, l)];
+                pk[3 * k + l] = p[(l, k)];
             }
         }
+        combine(&pm, &self.m_c_kl, &mut mc.as_mut_slice()[..len]);
+        combine(&pk, &self.k_c_kl, &mut kc.as_mut_slice()[..len]);
     }
 
     /// Generalised forces of the nodal loads at time `t` with frame `p`
@@ -544,6 +541,20 @@ impl Model {
             )));
         }
         Ok(())
+    }
+}
+
+/// `out = sum_i w_i blocks_i` entry by entry, the terms added in the order i = 0..9
+/// (from zero, so the sums equal nine accumulating passes bit for bit).
+fn combine(w: &[f64; 9], blocks: &[DMatrix<f64>], out: &mut [f64]) {
+    let n = out.len();
+    let b: [&[f64]; 9] = std::array::from_fn(|i| &blocks[i].as_slice()[..n]);
+    for (e, x) in out.iter_mut().enumerate() {
+        let mut s = 0.0;
+        for i in 0..9 {
+            s += w[i] * b[i][e];
+        }
+        *x = s;
     }
 }
 
