@@ -46,20 +46,20 @@ impl Lu {
         let mut pmin = f64::INFINITY;
         let mut pmax = 0.0f64;
         for k in 0..n {
+            // Largest magnitude in column k at or below the diagonal (first one on ties).
             let mut best = k;
             let mut bval = a[k * n + k].abs();
-            for i in k + 1..n {
-                let v = a[i * n + k].abs();
+            for (i, &x) in a[k * n + k..].iter().step_by(n).enumerate().skip(1) {
+                let v = x.abs();
                 if v > bval {
-                    best = i;
+                    best = k + i;
                     bval = v;
                 }
             }
             self.piv[k] = best;
             if best != k {
-                for j in 0..n {
-                    a.swap(k * n + j, best * n + j);
-                }
+                let (upper, lower) = a.split_at_mut(best * n);
+                upper[k * n..(k + 1) * n].swap_with_slice(&mut lower[..n]);
             }
             pmin = pmin.min(bval);
             pmax = pmax.max(bval);
@@ -90,8 +90,8 @@ impl Lu {
     pub(crate) fn solve(&self, b: &mut [f64]) {
         let n = self.n;
         let a = &self.a;
-        for k in 0..n {
-            b.swap(k, self.piv[k]);
+        for (k, &pk) in self.piv.iter().enumerate() {
+            b.swap(k, pk);
         }
         for i in 0..n {
             let row = &a[i * n..i * n + i];
