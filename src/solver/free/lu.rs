@@ -49,10 +49,10 @@ impl Lu {
             // Largest magnitude in column k at or below the diagonal (first one on ties).
             let mut best = k;
             let mut bval = a[k * n + k].abs();
-            for (i, &x) in a[k * n + k..].iter().step_by(n).enumerate().skip(1) {
-                let v = x.abs();
+            for i in k + 1..n {
+                let v = a[i * n + k].abs();
                 if v > bval {
-                    best = k + i;
+                    best = i;
                     bval = v;
                 }
             }
