@@ -51,6 +51,31 @@ fn scene(body: &Arc<Body>, nodes: Vec<usize>) -> Scene {
 }
 
 fn main() {
+    let args: Vec<String> = std::env::args()
+        .skip(1)
+        .filter(|a| a != "--bench")
+        .collect();
+    let has = |w: &str| args.iter().any(|a| a == w);
+    let bodies: Vec<&str> = ["freefree", "truss", "large_free"]
+        .into_iter()
+        .filter(|b| {
+            has(b)
+                || !args
+                    .iter()
+                    .any(|a| a == "freefree" || a == "truss" || a == "large_free")
+        })
+        .collect();
+    let methods: Vec<(Method, f64)> = [
+        (Method::Explicit, 0.9),
+        (Method::Implicit, 0.9),
+        (Method::Implicit, 18.0),
+    ]
+    .into_iter()
+    .filter(|(m, _)| match m {
+        Method::Explicit => !has("implicit"),
+        _ => !has("explicit"),
+    })
+    .collect();
     println!("free-body step cost (best of rounds; shared machine, figures vary)");
     println!(
         "{:<12} {:>5} {:>7} {:>6} {:>10} {:>18} {:>14} {:>14}",
@@ -63,7 +88,7 @@ fn main() {
         "us per int.",
         "s per sim. s"
     );
-    for name in ["freefree", "truss", "large_free"] {
+    for name in bodies {
         let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("fixtures/{name}.fxb"));
         if !path.is_file() {
             println!("{name}: not generated (python fixtures/generate.py --large)");
@@ -75,17 +100,21 @@ fn main() {
         let dt_fx = stable_step(fmax, beta);
         let n = body.nnodes();
         let big = n > 1000;
-        let (steps, rounds) = if big { (20, 3) } else { (2000, 5) };
+        let (steps, rounds) = if has("quick") {
+            (if big { 5 } else { 200 }, 1)
+        } else if big {
+            (20, 3)
+        } else {
+            (2000, 5)
+        };
         let mut selections = vec![(vec![0, n - 1], "2")];
         let all_label = n.to_string();
-        selections.push(((0..n).collect(), all_label.as_str()));
+        if !has("two") {
+            selections.push(((0..n).collect(), all_label.as_str()));
+        }
         for (nodes, label) in selections {
             let sc = scene(&body, nodes);
-            for (method, factor) in [
-                (Method::Explicit, 0.9),
-                (Method::Implicit, 0.9),
-                (Method::Implicit, 18.0),
-            ] {
+            for &(method, factor) in &methods {
                 let h = factor * dt_fx;
                 let t = time_steps(&sc, method, h, steps, rounds);
                 let internal = if method == Method::Explicit {

@@ -32,6 +32,12 @@ impl Lu {
         &mut self.a[i * self.n + j]
     }
 
+    /// Mutable row `i` of the matrix being filled.
+    #[inline]
+    pub(crate) fn row_mut(&mut self, i: usize) -> &mut [f64] {
+        &mut self.a[i * self.n..(i + 1) * self.n]
+    }
+
     /// Factor in place. Returns the ratio of the smallest to the largest pivot magnitude
     /// (0 for an exactly singular matrix); the caller decides what counts as singular.
     pub(crate) fn factor(&mut self) -> f64 {
@@ -40,6 +46,7 @@ impl Lu {
         let mut pmin = f64::INFINITY;
         let mut pmax = 0.0f64;
         for k in 0..n {
+            // Largest magnitude in column k at or below the diagonal (first one on ties).
             let mut best = k;
             let mut bval = a[k * n + k].abs();
             for i in k + 1..n {
@@ -51,9 +58,8 @@ impl Lu {
             }
             self.piv[k] = best;
             if best != k {
-                for j in 0..n {
-                    a.swap(k * n + j, best * n + j);
-                }
+                let (upper, lower) = a.split_at_mut(best * n);
+                upper[k * n..(k + 1) * n].swap_with_slice(&mut lower[..n]);
             }
             pmin = pmin.min(bval);
             pmax = pmax.max(bval);
@@ -61,12 +67,15 @@ impl Lu {
                 continue;
             }
             let d = a[k * n + k];
-            for i in k + 1..n {
-                let l = a[i * n + k] / d;
-                a[i * n + k] = l;
+            // Row k is above every row i > k: split there so that both are plain slices.
+            let (top, bottom) = a.split_at_mut((k + 1) * n);
+            let pivot_row = &top[k * n + k + 1..(k + 1) * n];
+            for row in bottom.chunks_exact_mut(n) {
+                let l = row[k] / d;
+                row[k] = l;
                 if l != 0.0 {
-                    for j in k + 1..n {
-                        a[i * n + j] -= l * a[k * n + j];
+                    for (x, &y) in row[k + 1..].iter_mut().zip(pivot_row) {
+                        *x -= l * y;
                     }
                 }
             }
@@ -81,20 +90,22 @@ impl Lu {
     pub(crate) fn solve(&self, b: &mut [f64]) {
         let n = self.n;
         let a = &self.a;
-        for k in 0..n {
-            b.swap(k, self.piv[k]);
+        for (k, &pk) in self.piv.iter().enumerate() {
+            b.swap(k, pk);
         }
         for i in 0..n {
+            let row = &a[i * n..i * n + i];
             let mut s = b[i];
-            for j in 0..i {
-                s -= a[i * n + j] * b[j];
+            for (&x, &y) in row.iter().zip(&b[..i]) {
+                s -= x * y;
             }
             b[i] = s;
         }
         for i in (0..n).rev() {
+            let row = &a[i * n + i + 1..(i + 1) * n];
             let mut s = b[i];
-            for j in i + 1..n {
-                s -= a[i * n + j] * b[j];
+            for (&x, &y) in row.iter().zip(&b[i + 1..n]) {
+                s -= x * y;
             }
             b[i] = s / a[i * n + i];
         }

@@ -207,10 +207,14 @@ pub(crate) struct Model {
     /// Rayleigh alpha (mass) and beta (stiffness).
     pub ray_a: f64,
     pub ray_b: f64,
-    /// Rigid modes at the exposed nodes, `6 m x nr`.
-    pub phi_r: DMatrix<f64>,
-    /// Local modes at the exposed nodes, `6 m x nl`.
-    pub phi_l: DMatrix<f64>,
+    /// Rigid modes at the exposed nodes (`6 m x nr`), row-major: row `r` is
+    /// `phi_r_rows[r * nr..(r + 1) * nr]`, so that the per-node sums of the outputs and
+    /// of the load projection read contiguous memory.
+    pub phi_r_rows: Vec<f64>,
+    /// Local modes at the exposed nodes (`6 m x nl`), row-major like `phi_r_rows`.
+    pub phi_l_rows: Vec<f64>,
+    /// `K_L` row-major (row `j` is `k_l_rows[j * nl..(j + 1) * nl]`).
+    pub k_l_rows: Vec<f64>,
     /// Initial coordinates of the exposed nodes.
     pub x0: Vec<Vector3<f64>>,
     /// Uniform-translation pattern of gravity, `s` (nr).
@@ -288,7 +292,15 @@ impl Model {
                 "M_R has no positive diagonal: the body has no mass".into()
             ));
         }
+        let row_major = |a: &DMatrix<f64>| -> Vec<f64> {
+            (0..a.nrows())
+                .flat_map(|r| (0..a.ncols()).map(move |c| a[(r, c)]))
+                .collect()
+        };
         Ok(Model {
+            phi_r_rows: row_major(&phi_r),
+            phi_l_rows: row_major(&phi_l),
+            k_l_rows: row_major(&body.k_l),
             nr,
             nl,
             irot: body.irot,
@@ -302,8 +314,6 @@ impl Model {
             k_l: body.k_l.clone(),
             ray_a: damping.alpha,
             ray_b: damping.beta,
-            phi_r,
-            phi_l,
             x0,
             s_grav,
             g_r,
@@ -324,22 +334,19 @@ impl Model {
 
     /// `M_C = sum_kl P_kl M_C,kl` and `K_C = sum_kl P_lk K_C,kl` (transposed P element).
     pub fn frame_matrices(&self, p: &Matrix3<f64>, mc: &mut DMatrix<f64>, kc: &mut DMatrix<f64>) {
-        mc.fill(0.0);
-        kc.fill(0.0);
+        // One pass per output entry over the nine sub-blocks (terms added in the order
+        // kl = 00, 01, ..., 22), instead of nine passes over the output.
+        let len = mc.len();
+        let mut pm = [0.0; 9];
+        let mut pk = [0.0; 9];
         for k in 0..3 {
             for l in 0..3 {
-                let idx = 3 * k + l;
-                let (pm, pk) = (p[(k, l)], p[(l, k)]);
-                let src = self.m_c_kl[idx].as_slice();
-                for (x, y) in mc.as_mut_slice().iter_mut().zip(src) {
-                    *x += pm * y;
-                }
-                let src = self.k_c_kl[idx].as_slice();
-                for (x, y) in kc.as_mut_slice().iter_mut().zip(src) {
-                    *x += pk * y;
-                }
+                pm[3 * k + l] = p[(k, l)];
+                pk[3 * k + l] = p[(l, k)];
             }
         }
+        combine(&pm, &self.m_c_kl, &mut mc.as_mut_slice()[..len]);
+        combine(&pk, &self.k_c_kl, &mut kc.as_mut_slice()[..len]);
     }
 
     /// Generalised forces of the nodal loads at time `t` with frame `p`
@@ -361,19 +368,20 @@ impl Model {
             if f == Vector3::zeros() && m == Vector3::zeros() {
                 continue;
             }
-            for i in 0..self.nr {
+            let (nr, nl) = (self.nr, self.nl);
+            let pr = &self.phi_r_rows;
+            for i in 0..nr {
                 let rows = if i < 12 { b } else { b + 3 };
                 let g = if i < 12 { &f } else { &m };
-                f_r[i] += (0..3)
-                    .map(|c| g[c] * self.phi_r[(rows + c, i)])
-                    .sum::<f64>();
+                f_r[i] += (0..3).map(|c| g[c] * pr[(rows + c) * nr + i]).sum::<f64>();
             }
             let fl = p.tr_mul(&f);
             let ml = p.tr_mul(&m);
-            for j in 0..self.nl {
+            let pl = &self.phi_l_rows;
+            for j in 0..nl {
                 let mut s = 0.0;
                 for c in 0..3 {
-                    s += fl[c] * self.phi_l[(b + c, j)] + ml[c] * self.phi_l[(b + 3 + c, j)];
+                    s += fl[c] * pl[(b + c) * nl + j] + ml[c] * pl[(b + 3 + c) * nl + j];
                 }
                 f_l[j] += s;
             }
@@ -433,13 +441,15 @@ impl Model {
     /// velocity or acceleration).
     pub fn node_field(&self, k: usize, x: &DVector<f64>, p: &Matrix3<f64>) -> Vector3<f64> {
         let b = 6 * k;
+        let (nr, nl) = (self.nr, self.nl);
+        let x = x.as_slice();
         let mut rig = Vector3::zeros();
         let mut loc = Vector3::zeros();
         for c in 0..3 {
-            rig[c] = (0..12).map(|i| x[i] * self.phi_r[(b + c, i)]).sum::<f64>();
-            loc[c] = (0..self.nl)
-                .map(|j| x[self.nr + j] * self.phi_l[(b + c, j)])
-                .sum::<f64>();
+            let pr = &self.phi_r_rows[(b + c) * nr..(b + c) * nr + 12];
+            rig[c] = pr.iter().zip(&x[..12]).map(|(f, y)| y * f).sum::<f64>();
+            let pl = &self.phi_l_rows[(b + c) * nl..(b + c + 1) * nl];
+            loc[c] = pl.iter().zip(&x[nr..]).map(|(f, y)| y * f).sum::<f64>();
         }
         rig + p * loc
     }
@@ -469,14 +479,20 @@ impl Model {
             let b = 6 * k + 3;
             let mut rig = Vector3::zeros();
             let mut loc = Vector3::zeros();
+            let (nr, nl) = (self.nr, self.nl);
             for c in 0..3 {
                 rig[c] = if self.irot {
-                    (12..15).map(|i| v[i] * self.phi_r[(b + c, i)]).sum::<f64>()
+                    (12..15)
+                        .map(|i| v[i] * self.phi_r_rows[(b + c) * nr + i])
+                        .sum::<f64>()
                 } else {
                     w[c]
                 };
-                loc[c] = (0..self.nl)
-                    .map(|j| v[self.nr + j] * self.phi_l[(b + c, j)])
+                let pl = &self.phi_l_rows[(b + c) * nl..(b + c + 1) * nl];
+                loc[c] = pl
+                    .iter()
+                    .zip(&v.as_slice()[nr..])
+                    .map(|(f, y)| y * f)
                     .sum::<f64>();
             }
             let r = rig + p * loc;
@@ -525,6 +541,20 @@ impl Model {
             )));
         }
         Ok(())
+    }
+}
+
+/// `out = sum_i w_i blocks_i` entry by entry, the terms added in the order i = 0..9
+/// (from zero, so the sums equal nine accumulating passes bit for bit).
+fn combine(w: &[f64; 9], blocks: &[DMatrix<f64>], out: &mut [f64]) {
+    let n = out.len();
+    let b: [&[f64]; 9] = std::array::from_fn(|i| &blocks[i].as_slice()[..n]);
+    for (e, x) in out.iter_mut().enumerate() {
+        let mut s = 0.0;
+        for i in 0..9 {
+            s += w[i] * b[i][e];
+        }
+        *x = s;
     }
 }
 
