@@ -54,7 +54,8 @@ pub fn cholesky_solve(l: &DMatrix<f64>, b: &mut DVector<f64>) {
 
 /// Dot product with four independent partial sums, so that the additions pipeline
 /// instead of waiting on one another.
-fn dot(a: &[f64], b: &[f64]) -> f64 {
+#[inline]
+pub fn dot(a: &[f64], b: &[f64]) -> f64 {
     let mut acc = [0.0; 4];
     let (ca, cb) = (a.chunks_exact(4), b.chunks_exact(4));
     let (ra, rb) = (ca.remainder(), cb.remainder());
@@ -68,6 +69,44 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
         tail += x * y;
     }
     (acc[0] + acc[1]) + (acc[2] + acc[3]) + tail
+}
+
+/// `out += a x` for the column-major `a` (`out.len()` rows, `x.len()` columns). Rows are
+/// taken in blocks of 8 (then 4, then 1) held in registers across all columns, so that
+/// `out` is read and written once and each column block is one contiguous load.
+#[inline]
+pub fn gemv_acc(a: &[f64], x: &[f64], out: &mut [f64]) {
+    let n = out.len();
+    if n == 0 {
+        return;
+    }
+    let mut r0 = 0;
+    while r0 + 8 <= n {
+        gemv_block::<8>(a, n, r0, x, out);
+        r0 += 8;
+    }
+    if r0 + 4 <= n {
+        gemv_block::<4>(a, n, r0, x, out);
+        r0 += 4;
+    }
+    while r0 < n {
+        gemv_block::<1>(a, n, r0, x, out);
+        r0 += 1;
+    }
+}
+
+/// Rows `r0..r0 + B` of [`gemv_acc`].
+#[inline(always)]
+fn gemv_block<const B: usize>(a: &[f64], lda: usize, r0: usize, x: &[f64], out: &mut [f64]) {
+    let mut acc = [0.0; B];
+    acc.copy_from_slice(&out[r0..r0 + B]);
+    for (col, &xj) in a.chunks_exact(lda).zip(x) {
+        let c = &col[r0..r0 + B];
+        for r in 0..B {
+            acc[r] += c[r] * xj;
+        }
+    }
+    out[r0..r0 + B].copy_from_slice(&acc);
 }
 
 /// `x^T k x` without temporaries.

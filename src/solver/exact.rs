@@ -8,8 +8,15 @@
 //! between samples. The transition coefficients are computed once per distinct step size;
 //! two sizes are kept, so a constant step with an odd last step does not recompute them.
 //!
+//! A step touches only the modal amplitudes: the loads are projected straight onto the
+//! modes and the node outputs are read from them through rows that already hold the
+//! modal basis. The local coordinates `alpha = S y` (`modal()`) and the accelerations are
+//! computed only when asked for.
+//!
 //! State layout (`State::data`): time, then the load part (`t_set`, 6m loads, 6m rates),
 //! then the modal amplitudes y (nL) and modal velocities y' (nL).
+
+use std::cell::{Cell, OnceCell};
 
 use nalgebra::{DMatrix, DVector, SymmetricEigen};
 
@@ -26,12 +33,16 @@ pub struct Exact {
     /// `S = m^-1/2 V`, physical from modal coordinates.
     basis: DMatrix<f64>,
     omega: Vec<f64>,
+    /// `omega^2`.
+    w2: Vec<f64>,
     damp: Vec<f64>,
     y: DVector<f64>,
     yd: DVector<f64>,
-    ya: DVector<f64>,
-    q: DVector<f64>,
-    coef: [Vec<[f64; 8]>; 2],
+    alpha: LocalCoords,
+    /// Per slot, the 8 transition coefficients stored coefficient by coefficient
+    /// (`8 nL`: `c[k]` of mode i at `k nL + i`), so that the step runs down contiguous
+    /// arrays.
+    coef: [Vec<f64>; 2],
     coef_h: [f64; 2],
     next_slot: usize,
 }
@@ -54,19 +65,20 @@ impl Exact {
         let basis = DMatrix::from_fn(nl, nl, |i, j| inv_sqrt[i] * vectors[(i, j)]);
         let (a, b) = body.damping.map_or((0.0, 0.0), |r| (r.alpha, r.beta));
         let omega: Vec<f64> = values.iter().map(|&l| l.max(0.0).sqrt()).collect();
-        let damp = omega.iter().map(|&w| a + b * w * w).collect();
+        let w2: Vec<f64> = omega.iter().map(|&w| w * w).collect();
+        let damp = w2.iter().map(|&w2| a + b * w2).collect();
         let io = Exposed::new(scene, &basis)?;
         Ok(Exact {
             time: 0.0,
             io,
             basis,
             omega,
+            w2,
             damp,
             y: DVector::zeros(nl),
             yd: DVector::zeros(nl),
-            ya: DVector::zeros(nl),
-            q: DVector::zeros(nl),
-            coef: [vec![[0.0; 8]; nl], vec![[0.0; 8]; nl]],
+            alpha: LocalCoords::new(nl),
+            coef: [vec![0.0; 8 * nl], vec![0.0; 8 * nl]],
             coef_h: [f64::NAN; 2],
             next_slot: 0,
         })
@@ -75,14 +87,6 @@ impl Exact {
     /// Modal circular frequencies (rad/s), in the order of the modal basis.
     pub fn omegas(&self) -> &[f64] {
         &self.omega
-    }
-
-    fn update_acceleration(&mut self) {
-        for i in 0..self.y.len() {
-            let w = self.omega[i];
-            self.ya[i] =
-                self.io.force(i, self.time) - self.damp[i] * self.yd[i] - w * w * self.y[i];
-        }
     }
 
     fn state_len(&self) -> usize {
@@ -100,15 +104,11 @@ impl Solver for Exact {
     }
 
     fn set_loads(&mut self, loads: &[f64]) -> Result<(), SolverError> {
-        self.io.set_loads(loads, self.time)?;
-        self.update_acceleration();
-        Ok(())
+        self.io.set_loads(loads, self.time)
     }
 
     fn set_load_rates(&mut self, rates: &[f64]) -> Result<(), SolverError> {
-        self.io.set_rates(rates, self.time)?;
-        self.update_acceleration();
-        Ok(())
+        self.io.set_rates(rates, self.time)
     }
 
     fn step(&mut self, h: f64) -> Result<(), SolverError> {
@@ -120,25 +120,34 @@ impl Solver for Exact {
             None => {
                 let slot = self.next_slot;
                 self.next_slot = 1 - slot;
-                for (i, c) in self.coef[slot].iter_mut().enumerate() {
-                    *c = mode_coefficients(self.omega[i], self.damp[i], h);
+                let nl = self.y.len();
+                for i in 0..nl {
+                    let c = mode_coefficients(self.omega[i], self.damp[i], h);
+                    for (k, &ck) in c.iter().enumerate() {
+                        self.coef[slot][k * nl + i] = ck;
+                    }
                 }
                 self.coef_h[slot] = h;
                 slot
             }
         };
         let t0 = self.time;
-        for i in 0..self.y.len() {
-            let c = &self.coef[slot][i];
-            let f0 = self.io.force(i, t0);
-            let f1 = self.io.fd[i];
-            let (y, v) = (self.y[i], self.yd[i]);
-            self.y[i] = c[0] * y + c[1] * v + c[2] * f0 + c[3] * f1;
-            self.yd[i] = c[4] * y + c[5] * v + c[6] * f0 + c[7] * f1;
+        // Load over the step: f0 + fd s, f0 the value reached at t0.
+        let dt0 = t0 - self.io.t_set;
+        let n = self.y.len();
+        let cs = &self.coef[slot];
+        let c: [&[f64]; 8] = std::array::from_fn(|k| &cs[k * n..(k + 1) * n]);
+        let (f, fd) = (&self.io.f.as_slice()[..n], &self.io.fd.as_slice()[..n]);
+        let y = &mut self.y.as_mut_slice()[..n];
+        let v = &mut self.yd.as_mut_slice()[..n];
+        for i in 0..n {
+            let f0 = f[i] + fd[i] * dt0;
+            let (y0, v0) = (y[i], v[i]);
+            y[i] = c[0][i] * y0 + c[1][i] * v0 + c[2][i] * f0 + c[3][i] * fd[i];
+            v[i] = c[4][i] * y0 + c[5][i] * v0 + c[6][i] * f0 + c[7][i] * fd[i];
         }
         self.time = t0 + h;
-        self.update_acceleration();
-        self.q.gemv(1.0, &self.basis, &self.y, 0.0);
+        self.alpha.invalidate();
         Ok(())
     }
 
@@ -151,7 +160,20 @@ impl Solver for Exact {
     }
 
     fn accelerations(&self, out: &mut [f64]) {
-        self.io.translations(&self.ya, out);
+        // Modal accelerations from the equation of motion, recomputed for each output
+        // value so that no workspace is needed (outputs are few, and not on the step).
+        let n = out.len().min(3 * self.io.nodes);
+        for (i, o) in out[..n].iter_mut().enumerate() {
+            let row = self.io.row(i / 3, i % 3);
+            *o = (0..self.y.len())
+                .map(|j| {
+                    let a = self.io.force(j, self.time)
+                        - self.damp[j] * self.yd[j]
+                        - self.w2[j] * self.y[j];
+                    row[j] * a
+                })
+                .sum();
+        }
     }
 
     fn rotation_rates(&self, out: &mut [f64]) {
@@ -159,15 +181,15 @@ impl Solver for Exact {
     }
 
     fn modal(&self) -> &[f64] {
-        self.q.as_slice()
+        self.alpha.get(&self.basis, &self.y)
     }
 
     fn strain_energy(&self) -> f64 {
         0.5 * self
             .y
             .iter()
-            .zip(&self.omega)
-            .map(|(y, w)| w * w * y * y)
+            .zip(&self.w2)
+            .map(|(y, w2)| w2 * y * y)
             .sum::<f64>()
     }
 
@@ -200,8 +222,66 @@ impl Solver for Exact {
         self.io.restore(&d[1..k]);
         self.y.copy_from_slice(&d[k..k + nl]);
         self.yd.copy_from_slice(&d[k + nl..k + 2 * nl]);
-        self.update_acceleration();
-        self.q.gemv(1.0, &self.basis, &self.y, 0.0);
+        self.alpha.invalidate();
         Ok(())
+    }
+}
+
+/// The local coordinates `alpha = S y`, computed on the first request after a step and
+/// kept until the next one. `modal()` hands out a slice from `&self`, so the value lives
+/// in a cell filled on demand; the buffer moves between `value` and `spare` so that
+/// neither a step nor a request allocates.
+struct LocalCoords {
+    value: OnceCell<DVector<f64>>,
+    spare: Cell<Option<DVector<f64>>>,
+    len: usize,
+}
+
+impl LocalCoords {
+    fn new(nl: usize) -> LocalCoords {
+        LocalCoords {
+            value: OnceCell::new(),
+            spare: Cell::new(Some(DVector::zeros(nl))),
+            len: nl,
+        }
+    }
+
+    /// Mark the value stale (the amplitudes changed); keeps the buffer.
+    fn invalidate(&mut self) {
+        if let Some(v) = self.value.take() {
+            *self.spare.get_mut() = Some(v);
+        }
+    }
+
+    /// `basis y`, computed if stale.
+    fn get(&self, basis: &DMatrix<f64>, y: &DVector<f64>) -> &[f64] {
+        self.value
+            .get_or_init(|| {
+                let mut v = self
+                    .spare
+                    .take()
+                    .unwrap_or_else(|| DVector::zeros(self.len));
+                v.gemv(1.0, basis, y, 0.0);
+                v
+            })
+            .as_slice()
+    }
+}
+
+impl Clone for LocalCoords {
+    fn clone(&self) -> LocalCoords {
+        LocalCoords {
+            value: self.value.clone(),
+            spare: Cell::new(Some(DVector::zeros(self.len))),
+            len: self.len,
+        }
+    }
+}
+
+impl std::fmt::Debug for LocalCoords {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("LocalCoords")
+            .field("value", &self.value.get())
+            .finish()
     }
 }

@@ -3,7 +3,9 @@
 //! its projection onto the modes, and the node outputs. Everything is sized at build
 //! time; nothing here allocates after [`Exposed::new`].
 
-use nalgebra::{DMatrix, DVector, DVectorViewMut};
+use nalgebra::{DMatrix, DVector};
+
+use super::dense::{dot, gemv_acc};
 
 use super::SolverError;
 use crate::scene::Scene;
@@ -11,20 +13,21 @@ use crate::scene::Scene;
 /// Exposed-node rows of a mode basis in the global frame, and the caller's load.
 ///
 /// For a basis `B` (`nL x nb`: the identity for the physical coordinates, or the modal
-/// basis of the exact method), `g` holds `P0 Phi_trans(n) B` for every exposed node n
-/// (rows `3k..3k+3`), then `P0 Phi_rot(n) B` for every node (rows `3m+3k..`), so that the
-/// generalised load is `g^T` times the loads regrouped as all forces then all moments
-/// (FORMULATION.md section 2 with P = P0), and the outputs use the two halves of `g`
-/// directly (one copy of the rows, which matters for cache use on large scenes).
+/// basis of the exact method), the rows `P0 Phi_trans(n) B` and `P0 Phi_rot(n) B` of every
+/// exposed node n are stored transposed, as the columns of `gt` in the caller's load
+/// order (node by node: fx fy fz mx my mz), so that
+/// - the generalised load `sum_c gt[.., c] loads[c]` runs down contiguous columns with
+///   no regrouping (FORMULATION.md section 2 with P = P0),
+/// - each node output is one contiguous dot product with the coordinates.
+///
+/// One copy of the rows serves both, which matters for cache use on large scenes.
 #[derive(Debug, Clone)]
 pub struct Exposed {
     /// Number of exposed nodes m.
     pub nodes: usize,
-    /// `6m x nb`: global translation rows of all exposed nodes, then their rotation rows
-    /// (zero for nodes without rotational DOFs).
-    pub g: DMatrix<f64>,
-    /// Workspace: loads regrouped as forces then moments.
-    regrouped: DVector<f64>,
+    /// `nb x 6m`: column `6k + c` is the transposed global row c of exposed node k
+    /// (c < 3 translations, c >= 3 rotations, zero for nodes without rotational DOFs).
+    pub gt: DMatrix<f64>,
     /// Initial global coordinates, 3 per exposed node.
     pub x0: DVector<f64>,
     /// Loads as set by the caller (6 per node), the value at `t_set`.
@@ -33,9 +36,9 @@ pub struct Exposed {
     pub rates: DVector<f64>,
     /// Time at which `loads` holds.
     pub t_set: f64,
-    /// `g^T loads`.
+    /// `gt loads`.
     pub f: DVector<f64>,
-    /// `g^T rates`.
+    /// `gt rates`.
     pub fd: DVector<f64>,
 }
 
@@ -60,7 +63,7 @@ impl Exposed {
         }
         let nb = basis.ncols();
         let rows = scene.exposed_rows(&body.phi_l) * basis;
-        let mut g = DMatrix::zeros(6 * m, nb);
+        let mut gt = DMatrix::zeros(nb, 6 * m);
         for (k, &node) in scene.nodes.iter().enumerate() {
             let rot = body.node_has_rotation(node);
             for j in 0..nb {
@@ -74,16 +77,15 @@ impl Exposed {
                     if !rot {
                         r = 0.0;
                     }
-                    g[(3 * k + c, j)] = t;
-                    g[(3 * m + 3 * k + c, j)] = r;
+                    gt[(j, 6 * k + c)] = t;
+                    gt[(j, 6 * k + 3 + c)] = r;
                 }
             }
         }
         let x0 = DVector::from_iterator(3 * m, scene.x0.iter().flat_map(|p| p.iter().copied()));
         Ok(Exposed {
             nodes: m,
-            g,
-            regrouped: DVector::zeros(6 * m),
+            gt,
             x0,
             loads: DVector::zeros(6 * m),
             rates: DVector::zeros(6 * m),
@@ -91,6 +93,14 @@ impl Exposed {
             f: DVector::zeros(nb),
             fd: DVector::zeros(nb),
         })
+    }
+
+    /// Column `6k + c` of `gt` (length nb).
+    #[inline]
+    pub fn row(&self, k: usize, c: usize) -> &[f64] {
+        let nb = self.gt.nrows();
+        let j = 6 * k + c;
+        &self.gt.as_slice()[j * nb..(j + 1) * nb]
     }
 
     fn check_len(&self, what: &'static str, v: &[f64]) -> Result<(), SolverError> {
@@ -112,7 +122,7 @@ impl Exposed {
     /// Loads at time `now`: stored and projected; the rate is kept.
     pub fn set_loads(&mut self, loads: &[f64], now: f64) -> Result<(), SolverError> {
         self.check_len("loads", loads)?;
-        self.loads.copy_from_slice(loads);
+        self.loads.as_mut_slice().copy_from_slice(loads);
         self.t_set = now;
         self.project_loads();
         Ok(())
@@ -126,32 +136,29 @@ impl Exposed {
         self.loads.axpy(dt, &self.rates, 1.0);
         self.project_loads();
         self.t_set = now;
-        self.rates.copy_from_slice(rates);
+        self.rates.as_mut_slice().copy_from_slice(rates);
         self.project_rates();
         Ok(())
     }
 
-    /// Regroup per-node `[f; m]` values as all forces, then all moments.
-    fn regroup(src: &DVector<f64>, dst: &mut DVector<f64>) {
-        let m = src.len() / 6;
-        for k in 0..m {
-            for c in 0..3 {
-                dst[3 * k + c] = src[6 * k + c];
-                dst[3 * m + 3 * k + c] = src[6 * k + 3 + c];
-            }
-        }
-    }
-
-    /// `f = g^T loads`.
+    /// `f = gt loads`.
     fn project_loads(&mut self) {
-        Self::regroup(&self.loads, &mut self.regrouped);
-        self.f.gemv_tr(1.0, &self.g, &self.regrouped, 0.0);
+        self.f.as_mut_slice().fill(0.0);
+        gemv_acc(
+            self.gt.as_slice(),
+            self.loads.as_slice(),
+            self.f.as_mut_slice(),
+        );
     }
 
-    /// `fd = g^T rates`.
+    /// `fd = gt rates`.
     fn project_rates(&mut self) {
-        Self::regroup(&self.rates, &mut self.regrouped);
-        self.fd.gemv_tr(1.0, &self.g, &self.regrouped, 0.0);
+        self.fd.as_mut_slice().fill(0.0);
+        gemv_acc(
+            self.gt.as_slice(),
+            self.rates.as_slice(),
+            self.fd.as_mut_slice(),
+        );
     }
 
     /// Generalised load component `i` at time `t`.
@@ -168,27 +175,30 @@ impl Exposed {
         }
     }
 
+    /// `out[3k + c] = base[3k + c] + row(k, off + c) . coords` for the first `out.len()`
+    /// values (at most 3 per exposed node).
+    fn rows_dot(&self, off: usize, c: &[f64], base: Option<&[f64]>, out: &mut [f64]) {
+        let n = out.len().min(3 * self.nodes);
+        for (i, o) in out[..n].iter_mut().enumerate() {
+            let v = dot(self.row(i / 3, off + i % 3), c);
+            *o = base.map_or(v, |b| b[i] + v);
+        }
+    }
+
     /// Node positions `x0 + g_trans c` for coordinates `c`. A short `out` gets the first
     /// values only (the contract is 3 per exposed node).
     pub fn positions(&self, c: &DVector<f64>, out: &mut [f64]) {
-        let n = out.len().min(3 * self.nodes);
-        let mut o = DVectorViewMut::from_slice(&mut out[..n], n);
-        o.copy_from(&self.x0.rows(0, n));
-        o.gemv(1.0, &self.g.rows(0, n), c, 1.0);
+        self.rows_dot(0, c.as_slice(), Some(self.x0.as_slice()), out);
     }
 
     /// Translation rows times `c` (velocities or accelerations).
     pub fn translations(&self, c: &DVector<f64>, out: &mut [f64]) {
-        let n = out.len().min(3 * self.nodes);
-        let mut o = DVectorViewMut::from_slice(&mut out[..n], n);
-        o.gemv(1.0, &self.g.rows(0, n), c, 0.0);
+        self.rows_dot(0, c.as_slice(), None, out);
     }
 
     /// Rotation rows times `c` (rotation rates from modal velocities).
     pub fn rotations(&self, c: &DVector<f64>, out: &mut [f64]) {
-        let n = out.len().min(3 * self.nodes);
-        let mut o = DVectorViewMut::from_slice(&mut out[..n], n);
-        o.gemv(1.0, &self.g.rows(3 * self.nodes, n), c, 0.0);
+        self.rows_dot(3, c.as_slice(), None, out);
     }
 
     /// Length of the saved load part: `t_set`, loads, rates.
@@ -207,8 +217,10 @@ impl Exposed {
     pub fn restore(&mut self, data: &[f64]) {
         let m6 = 6 * self.nodes;
         self.t_set = data[0];
-        self.loads.copy_from_slice(&data[1..1 + m6]);
-        self.rates.copy_from_slice(&data[1 + m6..1 + 2 * m6]);
+        self.loads.as_mut_slice().copy_from_slice(&data[1..1 + m6]);
+        self.rates
+            .as_mut_slice()
+            .copy_from_slice(&data[1 + m6..1 + 2 * m6]);
         self.project_loads();
         self.project_rates();
     }
