@@ -220,6 +220,7 @@ mod tests {
             name: "t".into(),
             nodes: vec![121],
             units: None,
+            fmax: None,
         };
         let scene = make_scene(body, &xyz, &opts, "cantilever").unwrap();
         let callbacks = fmi2CallbackFunctions {
