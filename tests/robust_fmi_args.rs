@@ -20,6 +20,8 @@ use std::ffi::{CString, c_char};
 use std::ptr::{null, null_mut};
 
 use fxbody::fmi::exports::*;
+use fxbody::fmi::fmu_state::*;
+use fxbody::fmi::values::*;
 use fxbody::fmi::state::FmiState;
 use fxbody::fmi::types::*;
 use fxbody::fmu::vars::Causality;

@@ -19,6 +19,8 @@ use std::collections::BTreeMap;
 use std::ptr::{null, null_mut};
 
 use fxbody::fmi::exports::*;
+use fxbody::fmi::fmu_state::*;
+use fxbody::fmi::values::*;
 use fxbody::fmi::state::FmiState;
 use fxbody::fmi::types::*;
 use robust_common::{BEFORE, H, Packed, Slave, packed, print_counts, reference, run, same_bits};

@@ -18,6 +18,7 @@ use std::ffi::CString;
 use std::ptr::{null, null_mut};
 
 use fxbody::fmi::exports::*;
+use fxbody::fmi::fmu_state::*;
 use fxbody::fmi::state::FmiState;
 use fxbody::fmi::types::*;
 use fxbody::fmu::snapshot::Snapshot;

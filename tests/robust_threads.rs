@@ -13,7 +13,7 @@ use std::path::Path;
 use std::sync::Barrier;
 use std::thread;
 
-use fxbody::fmi::exports::fmi2SetInteger;
+use fxbody::fmi::values::fmi2SetInteger;
 use fxbody::fmi::host::FmuLibrary;
 use fxbody::fmi::types::fmi2OK;
 use robust_common::{H, Packed, Slave, packed, same_bits};

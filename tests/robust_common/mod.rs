@@ -10,7 +10,12 @@ use std::ffi::{CStr, CString, c_char, c_void};
 use std::path::PathBuf;
 use std::sync::Mutex;
 
-use fxbody::fmi::exports as x;
+/// Every export under one name, whichever module of src/fmi defines it.
+mod x {
+    pub use fxbody::fmi::exports::*;
+    pub use fxbody::fmi::fmu_state::*;
+    pub use fxbody::fmi::values::*;
+}
 use fxbody::fmi::instance::Instance as Inner;
 use fxbody::fmi::state::FmiState;
 use fxbody::fmi::types::*;
