@@ -119,10 +119,18 @@ impl Solver for Exact {
             Some(slot) => slot,
             None => {
                 let slot = self.next_slot;
-                self.next_slot = 1 - slot;
                 for (i, c) in self.coef[slot].iter_mut().enumerate() {
                     *c = mode_coefficients(self.omega[i], self.damp[i], h);
                 }
+                if self.coef[slot].iter().flatten().any(|c| !c.is_finite()) {
+                    // w h overflows (h near f64::MAX): refuse before any state changes.
+                    self.coef_h[slot] = f64::NAN;
+                    return Err(SolverError::Unsupported {
+                        method: Method::Exact,
+                        why: format!("a step of {h} s overflows the modal transition"),
+                    });
+                }
+                self.next_slot = 1 - slot;
                 self.coef_h[slot] = h;
                 slot
             }
