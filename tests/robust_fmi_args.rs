@@ -25,7 +25,9 @@ use fxbody::fmi::values::*;
 use fxbody::fmi::state::FmiState;
 use fxbody::fmi::types::*;
 use fxbody::fmu::vars::Causality;
-use robust_common::{AFTER, BEFORE, H, Slave, midway, packed, print_counts, reference, run};
+use robust_common::{
+    AFTER, BEFORE, H, Slave, midway, packed, print_counts, reference, run, same_bits,
+};
 
 #[test]
 fn bad_arguments_are_refused_and_change_nothing() {
@@ -498,4 +500,76 @@ fn steps_past_stop_time_are_refused() {
         n += 1;
     }
     println!("past stopTime: {} cases", n + 1);
+}
+
+#[test]
+fn extreme_step_sizes_give_finite_results_or_an_error() {
+    let fx = packed("huge");
+    let (fy, y, vy) = (
+        fx.vr("node_121.fy"),
+        fx.vr("node_121.y"),
+        fx.vr("node_121.vy"),
+    );
+    let mut counts = BTreeMap::new();
+    for &method in fx.p.table.methods() {
+        for h in [5e-324, 1e-300, 1e-12, 1e-2, 1e300, f64::MAX] {
+            let s = Slave::new(&fx, "extreme");
+            let m = fx.vr("method");
+            // SAFETY: a live instance, arrays of one element.
+            assert_eq!(
+                unsafe { fmi2SetInteger(s.c, &m, 1, &(method as i32)) },
+                fmi2OK
+            );
+            assert_eq!(s.setup(0.0, None), fmi2OK);
+            // SAFETY: a live instance.
+            unsafe {
+                assert_eq!(fmi2EnterInitializationMode(s.c), fmi2OK);
+                assert_eq!(fmi2ExitInitializationMode(s.c), fmi2OK);
+            }
+            assert_eq!(s.set_real(&[fy], &[1.0]), fmi2OK);
+            let st = s.do_step(0.0, h);
+            let kind = if st == fmi2OK {
+                let mut o = [0.0; 2];
+                assert_eq!(s.get_real(&[y, vy], &mut o), fmi2OK);
+                assert!(
+                    o.iter().all(|v| v.is_finite()),
+                    "{method:?} h = {h}: outputs {o:?}"
+                );
+                "accepted, finite outputs"
+            } else {
+                // Refused: allowed to go on (white box), the next ordinary step equals
+                // a twin's first step bit for bit. (The snapshot itself may differ: the
+                // refused step already handed the pending load to the solver, which
+                // the next step would have done identically.)
+                assert_eq!(st, fmi2Error, "{method:?} h = {h}");
+                s.force_state(FmiState::StepComplete);
+                let twin = Slave::new(&fx, "twin");
+                // SAFETY: a live instance, arrays of one element.
+                assert_eq!(
+                    unsafe { fmi2SetInteger(twin.c, &m, 1, &(method as i32)) },
+                    fmi2OK
+                );
+                assert_eq!(twin.setup(0.0, None), fmi2OK);
+                // SAFETY: a live instance.
+                unsafe {
+                    assert_eq!(fmi2EnterInitializationMode(twin.c), fmi2OK);
+                    assert_eq!(fmi2ExitInitializationMode(twin.c), fmi2OK);
+                }
+                assert_eq!(twin.set_real(&[fy], &[1.0]), fmi2OK);
+                let (mut a, mut b) = ([0.0; 2], [0.0; 2]);
+                for (sl, o) in [(&s, &mut a), (&twin, &mut b)] {
+                    assert_eq!(sl.do_step(0.0, H), fmi2OK, "{method:?} after h = {h}");
+                    assert_eq!(sl.get_real(&[y, vy], o), fmi2OK);
+                }
+                assert!(
+                    same_bits(&a, &b),
+                    "{method:?} after h = {h}: {a:?} vs {b:?}"
+                );
+                assert!(a[0] != 0.0 || a[1] != 0.0);
+                "refused, continues like the twin"
+            };
+            *counts.entry(kind).or_insert(0usize) += 1;
+        }
+    }
+    print_counts("extreme step sizes", &counts);
 }

@@ -119,7 +119,6 @@ impl Solver for Exact {
             Some(slot) => slot,
             None => {
                 let slot = self.next_slot;
-                self.next_slot = 1 - slot;
                 let nl = self.y.len();
                 for i in 0..nl {
                     let c = mode_coefficients(self.omega[i], self.damp[i], h);
@@ -127,6 +126,15 @@ impl Solver for Exact {
                         self.coef[slot][k * nl + i] = ck;
                     }
                 }
+                if self.coef[slot].iter().any(|c| !c.is_finite()) {
+                    // w h overflows (h near f64::MAX): refuse before any state changes.
+                    self.coef_h[slot] = f64::NAN;
+                    return Err(SolverError::Unsupported {
+                        method: Method::Exact,
+                        why: format!("a step of {h} s overflows the modal transition"),
+                    });
+                }
+                self.next_slot = 1 - slot;
                 self.coef_h[slot] = h;
                 slot
             }

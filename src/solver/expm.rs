@@ -30,7 +30,9 @@ pub fn expm(a: &M4) -> M4 {
         .fold(0.0, f64::max);
     let mut s = 0i32;
     if norm > 0.5 {
-        s = (norm / 0.5).log2().ceil() as i32;
+        // At most 1100 squarings (2^1100 exceeds f64::MAX): an infinite norm must not
+        // turn into 2^31 of them.
+        s = ((norm / 0.5).log2().ceil() as i32).min(1100);
     }
     let scale = 0.5f64.powi(s);
     let mut b = *a;
@@ -90,7 +92,8 @@ pub fn mode_coefficients(w: f64, d: f64, h: f64) -> [f64; 8] {
             one_minus_cos / w2,
         ];
     }
-    let sigma = w.max(1.0 / h);
+    // 1/h overflows for a subnormal h: cap it, tau = sigma h is then merely small.
+    let sigma = w.max((1.0 / h).min(f64::MAX));
     let tau = sigma * h;
     let r = w / sigma;
     let a: M4 = [
