@@ -45,9 +45,8 @@ impl Scene {
 
     /// The same scene with the body truncated to the modes of (K_L, m_L) up to
     /// `fmax_hz` and the dropped modes' static flexibility at the exposed nodes kept as
-    /// the residual ([`crate::reduce`]). Truncating an already truncated scene is refused
-    /// only in the sense that its residual would be lost: it adds the new dropped modes'
-    /// flexibility to the existing one.
+    /// the residual ([`crate::reduce`]). Truncating an already truncated scene keeps its
+    /// residual and adds the newly dropped modes' flexibility to it.
     pub fn truncated(&self, fmax_hz: f64) -> Result<(Scene, Truncation), ReduceError> {
         let t = truncate(&self.body, fmax_hz)?;
         let mut residual = t.residual(&self.nodes);
