@@ -8,9 +8,11 @@
 //! else allocates meanwhile). About 3000 cases in CI; `FXBODY_MUTATION_CASES=1000000`
 //! (or `scripts/robust-long.sh --cases 1000000`) is the long mode.
 
+mod fxb_files;
+use fxb_files::fxb_files;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::panic::{AssertUnwindSafe, catch_unwind};
-use std::path::{Path, PathBuf};
+
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use fxbody::body::Body;
@@ -80,27 +82,6 @@ impl Rng {
             (self.next() % n as u64) as usize
         }
     }
-}
-
-fn fxb_files() -> Vec<PathBuf> {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let mut out = Vec::new();
-    // FXBODY_FXB_DIR adds a directory of further files (to try files from elsewhere).
-    let extra = std::env::var("FXBODY_FXB_DIR").unwrap_or_default();
-    for dir in ["tests/data", "fixtures", extra.as_str()] {
-        if dir.is_empty() {
-            continue;
-        }
-        if let Ok(entries) = std::fs::read_dir(root.join(dir)) {
-            for e in entries.flatten() {
-                if e.path().extension().is_some_and(|x| x == "fxb") {
-                    out.push(e.path());
-                }
-            }
-        }
-    }
-    out.sort();
-    out
 }
 
 fn split_lines(text: &[u8]) -> Vec<Vec<u8>> {

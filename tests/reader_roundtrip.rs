@@ -3,31 +3,11 @@
 //! gives identical text, and the data lines of a hand-written Radioss-layout file come
 //! out unchanged.
 
-use std::path::{Path, PathBuf};
+mod fxb_files;
+use fxb_files::fxb_files;
+use std::path::Path;
 
 use fxbody::fxb::{self, FxbFile};
-
-fn fxb_files() -> Vec<PathBuf> {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let mut out = Vec::new();
-    // FXBODY_FXB_DIR adds a directory of further files (to try files from elsewhere).
-    let extra = std::env::var("FXBODY_FXB_DIR").unwrap_or_default();
-    for dir in ["tests/data", "fixtures", extra.as_str()] {
-        if dir.is_empty() {
-            continue;
-        }
-        let Ok(entries) = std::fs::read_dir(root.join(dir)) else {
-            continue;
-        };
-        for e in entries.flatten() {
-            if e.path().extension().is_some_and(|x| x == "fxb") {
-                out.push(e.path());
-            }
-        }
-    }
-    out.sort();
-    out
-}
 
 fn values(f: &FxbFile) -> Vec<f64> {
     let mut v = f.p0.to_vec();

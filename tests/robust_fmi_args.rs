@@ -21,9 +21,9 @@ use std::ptr::{null, null_mut};
 
 use fxbody::fmi::exports::*;
 use fxbody::fmi::fmu_state::*;
-use fxbody::fmi::values::*;
 use fxbody::fmi::state::FmiState;
 use fxbody::fmi::types::*;
+use fxbody::fmi::values::*;
 use fxbody::fmu::vars::Causality;
 use robust_common::{
     AFTER, BEFORE, H, Slave, midway, packed, print_counts, reference, run, same_bits,

@@ -20,9 +20,9 @@ use std::ptr::{null, null_mut};
 
 use fxbody::fmi::exports::*;
 use fxbody::fmi::fmu_state::*;
-use fxbody::fmi::values::*;
 use fxbody::fmi::state::FmiState;
 use fxbody::fmi::types::*;
+use fxbody::fmi::values::*;
 use robust_common::{BEFORE, H, Packed, Slave, packed, print_counts, reference, run, same_bits};
 
 /// The states a master can reach: where each case starts.

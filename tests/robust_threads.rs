@@ -13,9 +13,9 @@ use std::path::Path;
 use std::sync::Barrier;
 use std::thread;
 
-use fxbody::fmi::values::fmi2SetInteger;
 use fxbody::fmi::host::FmuLibrary;
 use fxbody::fmi::types::fmi2OK;
+use fxbody::fmi::values::fmi2SetInteger;
 use robust_common::{H, Packed, Slave, packed, same_bits};
 
 const THREADS: usize = 8;
