@@ -16,12 +16,10 @@
 //! State layout (`State::data`): time, then the load part (`t_set`, 6m loads, 6m rates),
 //! then the modal amplitudes y (nL) and modal velocities y' (nL).
 
-use std::cell::{Cell, OnceCell};
-
-use nalgebra::{DMatrix, DVector, SymmetricEigen};
+use nalgebra::{DMatrix, DVector};
 
 use super::expm::mode_coefficients;
-use super::nodes::{Exposed, check_state};
+use super::nodes::{Exposed, LocalCoords, check_state, modal_basis};
 use super::{Frame, Method, Solver, SolverError, State};
 use crate::scene::Scene;
 
@@ -52,19 +50,8 @@ impl Exact {
     pub fn new(scene: &Scene) -> Result<Exact, SolverError> {
         let body = &scene.body;
         let nl = body.nl();
-        let inv_sqrt = body.m_l.map(|m| 1.0 / m.sqrt());
-        let scaled = DMatrix::from_fn(nl, nl, |i, j| body.k_l[(i, j)] * inv_sqrt[i] * inv_sqrt[j]);
-        // nalgebra refuses an empty matrix: a body without local modes has nothing to
-        // diagonalise.
-        let (values, vectors) = if nl == 0 {
-            (DVector::zeros(0), DMatrix::zeros(0, 0))
-        } else {
-            let eig = SymmetricEigen::new(scaled);
-            (eig.eigenvalues, eig.eigenvectors)
-        };
-        let basis = DMatrix::from_fn(nl, nl, |i, j| inv_sqrt[i] * vectors[(i, j)]);
+        let (basis, omega) = modal_basis(body);
         let (a, b) = body.damping.map_or((0.0, 0.0), |r| (r.alpha, r.beta));
-        let omega: Vec<f64> = values.iter().map(|&l| l.max(0.0).sqrt()).collect();
         let w2: Vec<f64> = omega.iter().map(|&w| w * w).collect();
         let damp = w2.iter().map(|&w2| a + b * w2).collect();
         let io = Exposed::new(scene, &basis)?;
@@ -232,64 +219,5 @@ impl Solver for Exact {
         self.yd.copy_from_slice(&d[k + nl..k + 2 * nl]);
         self.alpha.invalidate();
         Ok(())
-    }
-}
-
-/// The local coordinates `alpha = S y`, computed on the first request after a step and
-/// kept until the next one. `modal()` hands out a slice from `&self`, so the value lives
-/// in a cell filled on demand; the buffer moves between `value` and `spare` so that
-/// neither a step nor a request allocates.
-struct LocalCoords {
-    value: OnceCell<DVector<f64>>,
-    spare: Cell<Option<DVector<f64>>>,
-    len: usize,
-}
-
-impl LocalCoords {
-    fn new(nl: usize) -> LocalCoords {
-        LocalCoords {
-            value: OnceCell::new(),
-            spare: Cell::new(Some(DVector::zeros(nl))),
-            len: nl,
-        }
-    }
-
-    /// Mark the value stale (the amplitudes changed); keeps the buffer.
-    fn invalidate(&mut self) {
-        if let Some(v) = self.value.take() {
-            *self.spare.get_mut() = Some(v);
-        }
-    }
-
-    /// `basis y`, computed if stale.
-    fn get(&self, basis: &DMatrix<f64>, y: &DVector<f64>) -> &[f64] {
-        self.value
-            .get_or_init(|| {
-                let mut v = self
-                    .spare
-                    .take()
-                    .unwrap_or_else(|| DVector::zeros(self.len));
-                v.gemv(1.0, basis, y, 0.0);
-                v
-            })
-            .as_slice()
-    }
-}
-
-impl Clone for LocalCoords {
-    fn clone(&self) -> LocalCoords {
-        LocalCoords {
-            value: self.value.clone(),
-            spare: Cell::new(Some(DVector::zeros(self.len))),
-            len: self.len,
-        }
-    }
-}
-
-impl std::fmt::Debug for LocalCoords {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("LocalCoords")
-            .field("value", &self.value.get())
-            .finish()
     }
 }

@@ -4,29 +4,30 @@
 //! `gamma = 1/2 - alpha_m + alpha_f`, `beta = (1 - alpha_m + alpha_f)^2 / 4`, the step
 //! solves `M a_(n+1-alpha_m) + C v_(n+1-alpha_f) + K q_(n+1-alpha_f) = F(t_(n+1-alpha_f))`
 //! with Newmark's updates for q and v: second order, unconditionally stable, and the
-//! spectral radius at infinite frequency is `rho_inf`. One linear solve per step with
-//! the SPD matrix `(1-alpha_m) M + (1-alpha_f)(gamma h C + beta h^2 K)`, factorised once
-//! per distinct step size into storage allocated at build time (two sizes are kept, so a
-//! constant step with an odd last step does not refactorise).
+//! spectral radius at infinite frequency is `rho_inf`.
+//!
+//! The scheme is linear and its matrices are combinations of M, K and the Rayleigh
+//! damping `C = alpha M + beta K`, so it commutes with the change to the mass-normalised
+//! modes `q = S y` (see [`modal_basis`]): applied to every mode separately it gives the
+//! same numbers as applied to the coupled system, up to round-off. The step is then one
+//! scalar recursion per mode (the effective matrix is diagonal, its inverse stored per
+//! step size, two sizes kept), with loads and outputs going straight through the exposed
+//! rows in the modal basis, like the exact method. The local coordinates `alpha = S y`
+//! are formed only when `modal()` asks for them.
 //!
 //! The acceleration is the method's own variable, carried from step to step. Before the
 //! first step it is set from the equation of motion whenever the loads change, so that
 //! a start under load is consistent.
 //!
 //! State layout (`State::data`): time, the load part (`t_set`, 6m loads, 6m rates), a
-//! started flag (0 or 1), then q, v, a (nL each).
+//! started flag (0 or 1), then the modal y, y', y'' (nL each, in the order of the modal
+//! basis).
 
-use nalgebra::{DMatrix, DVector};
+use nalgebra::DVector;
 
-use super::dense::{cholesky_in_place, cholesky_solve, quadratic};
-use super::nodes::{Exposed, check_state};
+use super::nodes::{Exposed, LocalCoords, check_state, modal_basis};
 use super::{Frame, Method, Solver, SolverError, State};
 use crate::scene::Scene;
-
-/// Largest number of modes for which the inverse of the effective matrix is stored
-/// instead of its Cholesky factor (measured: the inverse is faster at 20 and 100 modes,
-/// the factor at 200).
-pub const INVERSE_MAX_MODES: usize = 128;
 
 /// Generalised-alpha parameters from the spectral radius at infinity.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -62,26 +63,22 @@ impl AlphaParams {
 pub struct Implicit {
     time: f64,
     io: Exposed,
-    m: DVector<f64>,
-    k: DMatrix<f64>,
-    ra: f64,
-    rb: f64,
+    /// `S = m^-1/2 V`, physical from modal coordinates.
+    basis: nalgebra::DMatrix<f64>,
+    /// `omega^2` per mode.
+    w2: Vec<f64>,
+    /// Modal damping `alpha + beta omega^2`.
+    damp: Vec<f64>,
     p: AlphaParams,
     started: bool,
-    q: DVector<f64>,
+    y: DVector<f64>,
     v: DVector<f64>,
     a: DVector<f64>,
-    rhs: DVector<f64>,
-    w: DVector<f64>,
+    alpha: LocalCoords,
     cache_h: [f64; 2],
-    /// For the step sizes in `cache_h`: `S^-1` when `use_inverse`, else the Cholesky
-    /// factor of S.
-    slots: [DMatrix<f64>; 2],
-    /// Factorisation workspace (used only with `use_inverse`).
-    chol: DMatrix<f64>,
-    use_inverse: bool,
-    /// Solution workspace (the new acceleration).
-    a1: DVector<f64>,
+    /// For the step sizes in `cache_h`: the inverse of each mode's effective mass
+    /// `(1-alpha_m) + (1-alpha_f)(gamma h d + beta h^2 omega^2)`.
+    inv: [Vec<f64>; 2],
     next_slot: usize,
 }
 
@@ -96,84 +93,64 @@ impl Implicit {
         }
         let body = &scene.body;
         let nl = body.nl();
-        let io = Exposed::new(scene, &DMatrix::identity(nl, nl))?;
+        let (basis, omega) = modal_basis(body);
+        let io = Exposed::new(scene, &basis)?;
         let (ra, rb) = body.damping.map_or((0.0, 0.0), |r| (r.alpha, r.beta));
+        let w2: Vec<f64> = omega.iter().map(|&w| w * w).collect();
+        let damp = w2.iter().map(|&w2| ra + rb * w2).collect();
         Ok(Implicit {
             time: 0.0,
             io,
-            m: body.m_l.clone(),
-            k: body.k_l.clone(),
-            ra,
-            rb,
+            basis,
+            w2,
+            damp,
             p: AlphaParams::new(rho_inf),
             started: false,
-            q: DVector::zeros(nl),
+            y: DVector::zeros(nl),
             v: DVector::zeros(nl),
             a: DVector::zeros(nl),
-            rhs: DVector::zeros(nl),
-            w: DVector::zeros(nl),
+            alpha: LocalCoords::new(nl),
             cache_h: [f64::NAN; 2],
-            slots: [DMatrix::zeros(nl, nl), DMatrix::zeros(nl, nl)],
-            chol: DMatrix::zeros(if nl <= INVERSE_MAX_MODES { nl } else { 0 }, nl),
-            use_inverse: nl <= INVERSE_MAX_MODES,
-            a1: DVector::zeros(nl),
+            inv: [vec![0.0; nl], vec![0.0; nl]],
             next_slot: 0,
         })
     }
 
-    /// Acceleration from the equation of motion at the current time:
-    /// `M^-1 (F - C v - K q)`.
+    /// Acceleration from the equation of motion at the current time, mode by mode:
+    /// `f - d y' - omega^2 y`.
     fn consistent_acceleration(&mut self) {
-        self.io.force_into(self.time, &mut self.rhs);
-        self.w.copy_from(&self.q);
-        self.w.axpy(self.rb, &self.v, 1.0);
-        self.rhs.gemv(-1.0, &self.k, &self.w, 1.0);
-        for i in 0..self.a.len() {
-            self.a[i] = (self.rhs[i] - self.ra * self.m[i] * self.v[i]) / self.m[i];
+        for j in 0..self.y.len() {
+            self.a[j] =
+                self.io.force(j, self.time) - self.damp[j] * self.v[j] - self.w2[j] * self.y[j];
         }
     }
 
-    /// The slot holding the factorised matrix for step `h`, factorising if needed.
+    /// The slot holding the inverse effective masses for step `h`, computing them if
+    /// needed.
     fn factor(&mut self, h: f64) -> Result<usize, SolverError> {
         if let Some(slot) = self.cache_h.iter().position(|&c| c == h) {
             return Ok(slot);
         }
         let slot = self.next_slot;
-        self.next_slot = 1 - slot;
         let p = self.p;
-        let cm = (1.0 - p.am) + (1.0 - p.af) * p.gamma * h * self.ra;
-        let ck = (1.0 - p.af) * (p.gamma * h * self.rb + p.beta * h * h);
-        let s = if self.use_inverse {
-            &mut self.chol
-        } else {
-            &mut self.slots[slot]
-        };
-        s.copy_from(&self.k);
-        s.scale_mut(ck);
-        for i in 0..self.m.len() {
-            s[(i, i)] += cm * self.m[i];
-        }
-        self.cache_h[slot] = f64::NAN;
-        cholesky_in_place(s).map_err(|col| {
-            SolverError::Singular(format!(
-                "generalised-alpha matrix not positive definite at column {col} for step {h}"
-            ))
-        })?;
-        if self.use_inverse {
-            // Columns of S^-1: solve for the unit vectors, in the preallocated a1.
-            for j in 0..self.m.len() {
-                self.a1.fill(0.0);
-                self.a1[j] = 1.0;
-                cholesky_solve(&self.chol, &mut self.a1);
-                self.slots[slot].set_column(j, &self.a1);
+        let c = 1.0 - p.af;
+        for (j, inv) in self.inv[slot].iter_mut().enumerate() {
+            let s = (1.0 - p.am) + c * (p.gamma * h * self.damp[j] + p.beta * h * h * self.w2[j]);
+            if !(s > 0.0 && s.is_finite()) {
+                self.cache_h[slot] = f64::NAN;
+                return Err(SolverError::Singular(format!(
+                    "generalised-alpha effective mass of mode {j} is {s} for step {h}"
+                )));
             }
+            *inv = 1.0 / s;
         }
+        self.next_slot = 1 - slot;
         self.cache_h[slot] = h;
         Ok(slot)
     }
 
     fn state_len(&self) -> usize {
-        2 + self.io.saved_len() + 3 * self.q.len()
+        2 + self.io.saved_len() + 3 * self.y.len()
     }
 }
 
@@ -210,50 +187,37 @@ impl Solver for Implicit {
         let p = self.p;
         let c = 1.0 - p.af;
         // Load at t_(n+1-alpha_f).
-        self.io.force_into(self.time + c * h, &mut self.rhs);
-        // w = q_(n+1-af) without the a_(n+1) part, plus beta_R times the same for v.
+        let dtf = self.time + c * h - self.io.t_set;
+        // Per mode, with u = v_(n+1-af) and w = q_(n+1-af) without their a_(n+1) parts:
+        // s a1 = f - am a - d u - omega^2 w, then Newmark's updates.
         let (cq_v, cq_a) = (c * h, c * h * h * (0.5 - p.beta));
         let cv_a = c * h * (1.0 - p.gamma);
-        let (rb, ra, am) = (self.rb, self.ra, p.am);
-        for ((((w, r), &q), &v), (&a, &m)) in self
-            .w
-            .iter_mut()
-            .zip(self.rhs.iter_mut())
-            .zip(self.q.iter())
-            .zip(self.v.iter())
-            .zip(self.a.iter().zip(self.m.iter()))
-        {
-            let u = v + cv_a * a;
-            *w = q + cq_v * v + cq_a * a + rb * u;
-            *r -= m * (am * a + ra * u);
-        }
-        self.rhs.gemv(-1.0, &self.k, &self.w, 1.0);
-        if self.use_inverse {
-            self.a1.gemv(1.0, &self.slots[slot], &self.rhs, 0.0);
-        } else {
-            self.a1.copy_from(&self.rhs);
-            cholesky_solve(&self.slots[slot], &mut self.a1);
-        }
-        let (h2, bb, g) = (h * h, p.beta, p.gamma);
-        for (((q, v), a), &a1) in self
-            .q
-            .iter_mut()
-            .zip(self.v.iter_mut())
-            .zip(self.a.iter_mut())
-            .zip(self.a1.iter())
-        {
-            let a0 = *a;
-            *q += h * *v + h2 * ((0.5 - bb) * a0 + bb * a1);
-            *v += h * ((1.0 - g) * a0 + g * a1);
-            *a = a1;
+        let (h2, bb, g, am) = (h * h, p.beta, p.gamma, p.am);
+        let n = self.y.len();
+        let inv = &self.inv[slot][..n];
+        let (w2, d) = (&self.w2[..n], &self.damp[..n]);
+        let (f, fd) = (&self.io.f.as_slice()[..n], &self.io.fd.as_slice()[..n]);
+        let y = &mut self.y.as_mut_slice()[..n];
+        let v = &mut self.v.as_mut_slice()[..n];
+        let a = &mut self.a.as_mut_slice()[..n];
+        for j in 0..n {
+            let (y0, v0, a0) = (y[j], v[j], a[j]);
+            let u = v0 + cv_a * a0;
+            let w = y0 + cq_v * v0 + cq_a * a0;
+            let r = (f[j] + fd[j] * dtf) - am * a0 - d[j] * u - w2[j] * w;
+            let a1 = r * inv[j];
+            y[j] = y0 + h * v0 + h2 * ((0.5 - bb) * a0 + bb * a1);
+            v[j] = v0 + h * ((1.0 - g) * a0 + g * a1);
+            a[j] = a1;
         }
         self.time += h;
         self.started = true;
+        self.alpha.invalidate();
         Ok(())
     }
 
     fn positions(&self, out: &mut [f64]) {
-        self.io.positions(&self.q, out);
+        self.io.positions(&self.y, out);
     }
 
     fn velocities(&self, out: &mut [f64]) {
@@ -269,20 +233,20 @@ impl Solver for Implicit {
     }
 
     fn modal(&self) -> &[f64] {
-        self.q.as_slice()
+        self.alpha.get(&self.basis, &self.y)
     }
 
     fn strain_energy(&self) -> f64 {
-        0.5 * quadratic(&self.k, &self.q)
+        0.5 * self
+            .y
+            .iter()
+            .zip(&self.w2)
+            .map(|(y, w2)| w2 * y * y)
+            .sum::<f64>()
     }
 
     fn kinetic_energy(&self) -> f64 {
-        0.5 * self
-            .m
-            .iter()
-            .zip(self.v.iter())
-            .map(|(m, v)| m * v * v)
-            .sum::<f64>()
+        0.5 * self.v.norm_squared()
     }
 
     fn frame(&self) -> Option<Frame> {
@@ -294,7 +258,7 @@ impl Solver for Implicit {
         data.push(self.time);
         self.io.save(&mut data);
         data.push(if self.started { 1.0 } else { 0.0 });
-        data.extend(self.q.iter());
+        data.extend(self.y.iter());
         data.extend(self.v.iter());
         data.extend(self.a.iter());
         State {
@@ -306,15 +270,16 @@ impl Solver for Implicit {
     fn set_state(&mut self, state: &State) -> Result<(), SolverError> {
         check_state(state, Method::Implicit, self.state_len())?;
         let d = &state.data;
-        let nl = self.q.len();
+        let nl = self.y.len();
         let k = 1 + self.io.saved_len();
         self.time = d[0];
         self.io.restore(&d[1..k]);
         self.started = d[k] != 0.0;
         let k = k + 1;
-        self.q.copy_from_slice(&d[k..k + nl]);
+        self.y.copy_from_slice(&d[k..k + nl]);
         self.v.copy_from_slice(&d[k + nl..k + 2 * nl]);
         self.a.copy_from_slice(&d[k + 2 * nl..k + 3 * nl]);
+        self.alpha.invalidate();
         Ok(())
     }
 }

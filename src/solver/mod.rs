@@ -11,7 +11,8 @@
 //! [`nodes`] holds what they share: the exposed-node rows of the modes in the global
 //! frame, the caller's load model (value, rate, time) and the node outputs, all
 //! preallocated so that `step` and the outputs never allocate. `dense` has the small
-//! in-place kernels (Cholesky) and `expm` the per-mode transition of the exact method.
+//! kernels (dot products, matrix-vector updates) and `expm` the per-mode transition of
+//! the exact method.
 
 use crate::scene::Scene;
 

@@ -3,7 +3,9 @@
 //! its projection onto the modes, and the node outputs. Everything is sized at build
 //! time; nothing here allocates after [`Exposed::new`].
 
-use nalgebra::{DMatrix, DVector};
+use std::cell::{Cell, OnceCell};
+
+use nalgebra::{DMatrix, DVector, SymmetricEigen};
 
 use super::dense::{dot, gemv_acc};
 
@@ -250,4 +252,84 @@ pub fn check_state(
         ));
     }
     Ok(())
+}
+
+/// The local coordinates `alpha = S y`, computed on the first request after a step and
+/// kept until the next one. `modal()` hands out a slice from `&self`, so the value lives
+/// in a cell filled on demand; the buffer moves between `value` and `spare` so that
+/// neither a step nor a request allocates.
+pub struct LocalCoords {
+    value: OnceCell<DVector<f64>>,
+    spare: Cell<Option<DVector<f64>>>,
+    len: usize,
+}
+
+impl LocalCoords {
+    pub fn new(nl: usize) -> LocalCoords {
+        LocalCoords {
+            value: OnceCell::new(),
+            spare: Cell::new(Some(DVector::zeros(nl))),
+            len: nl,
+        }
+    }
+
+    /// Mark the value stale (the amplitudes changed); keeps the buffer.
+    pub fn invalidate(&mut self) {
+        if let Some(v) = self.value.take() {
+            *self.spare.get_mut() = Some(v);
+        }
+    }
+
+    /// `basis y`, computed if stale.
+    pub fn get(&self, basis: &DMatrix<f64>, y: &DVector<f64>) -> &[f64] {
+        self.value
+            .get_or_init(|| {
+                let mut v = self
+                    .spare
+                    .take()
+                    .unwrap_or_else(|| DVector::zeros(self.len));
+                v.gemv(1.0, basis, y, 0.0);
+                v
+            })
+            .as_slice()
+    }
+}
+
+impl Clone for LocalCoords {
+    fn clone(&self) -> LocalCoords {
+        LocalCoords {
+            value: self.value.clone(),
+            spare: Cell::new(Some(DVector::zeros(self.len))),
+            len: self.len,
+        }
+    }
+}
+
+impl std::fmt::Debug for LocalCoords {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("LocalCoords")
+            .field("value", &self.value.get())
+            .finish()
+    }
+}
+
+/// Mass-normalised modes of a blocked body: `S = m^-1/2 V` with
+/// `m^-1/2 K_L m^-1/2 = V diag(w^2) V^T`, and the circular frequencies `w`. In the
+/// coordinates `q = S y` the mass is the identity, the stiffness `diag(w^2)` and Rayleigh
+/// damping `diag(alpha + beta w^2)`: every mode is independent.
+pub fn modal_basis(body: &crate::body::Body) -> (DMatrix<f64>, Vec<f64>) {
+    let nl = body.nl();
+    let inv_sqrt = body.m_l.map(|m| 1.0 / m.sqrt());
+    let scaled = DMatrix::from_fn(nl, nl, |i, j| body.k_l[(i, j)] * inv_sqrt[i] * inv_sqrt[j]);
+    // nalgebra refuses an empty matrix: a body without local modes has nothing to
+    // diagonalise.
+    let (values, vectors) = if nl == 0 {
+        (DVector::zeros(0), DMatrix::zeros(0, 0))
+    } else {
+        let eig = SymmetricEigen::new(scaled);
+        (eig.eigenvalues, eig.eigenvectors)
+    };
+    let basis = DMatrix::from_fn(nl, nl, |i, j| inv_sqrt[i] * vectors[(i, j)]);
+    let omega = values.iter().map(|&l| l.max(0.0).sqrt()).collect();
+    (basis, omega)
 }
