@@ -19,7 +19,7 @@
 use nalgebra::{DMatrix, DVector};
 
 use super::expm::mode_coefficients;
-use super::nodes::{Exposed, LocalCoords, check_state, modal_basis};
+use super::nodes::{Exposed, LocalCoords, check_state, modal_basis, modal_strain_energy};
 use super::{Frame, Method, Solver, SolverError, State};
 use crate::scene::Scene;
 
@@ -180,12 +180,7 @@ impl Solver for Exact {
     }
 
     fn strain_energy(&self) -> f64 {
-        0.5 * self
-            .y
-            .iter()
-            .zip(&self.w2)
-            .map(|(y, w2)| w2 * y * y)
-            .sum::<f64>()
+        modal_strain_energy(&self.y, &self.w2)
     }
 
     fn kinetic_energy(&self) -> f64 {

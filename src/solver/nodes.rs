@@ -333,3 +333,9 @@ pub fn modal_basis(body: &crate::body::Body) -> (DMatrix<f64>, Vec<f64>) {
     let omega = values.iter().map(|&l| l.max(0.0).sqrt()).collect();
     (basis, omega)
 }
+
+/// Strain energy `1/2 sum w_i^2 y_i^2` of mass-normalised modal amplitudes `y` with
+/// squared circular frequencies `w2`: equal to `1/2 alpha^T K_L alpha`.
+pub fn modal_strain_energy(y: &DVector<f64>, w2: &[f64]) -> f64 {
+    0.5 * y.iter().zip(w2).map(|(y, w2)| w2 * y * y).sum::<f64>()
+}
