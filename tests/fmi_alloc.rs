@@ -2,32 +2,15 @@
 //! getReal, as fmi2SetReal/fmi2DoStep/fmi2GetReal run them) allocates nothing: counted
 //! with a global allocator wrapper in this test binary.
 
-use std::alloc::{GlobalAlloc, Layout, System};
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicUsize, Ordering};
 
 use fxbody::fmu::model::{Model, Phase};
 use fxbody::fmu::pack::{PackRequest, prepare};
 
-struct Counting;
-
-static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
-
-// SAFETY: forwards to the system allocator unchanged; only counts calls.
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
-        // SAFETY: same layout contract as the caller's.
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        // SAFETY: `ptr` came from `alloc` above with this layout.
-        unsafe { System.dealloc(ptr, layout) }
-    }
-}
+mod alloc_counter;
 
 #[global_allocator]
-static GLOBAL: Counting = Counting;
+static GLOBAL: alloc_counter::Counting = alloc_counter::Counting;
 
 #[test]
 fn a_communication_step_does_not_allocate() {
@@ -52,7 +35,7 @@ fn a_communication_step_does_not_allocate() {
     // Warm up (first step sets the transition coefficients).
     m.set_real(f, 1.0, Phase::Running).unwrap();
     m.do_step(0.0, h).unwrap();
-    let before = ALLOCATIONS.load(Ordering::Relaxed);
+    let before = alloc_counter::allocations();
     for k in 1..1001 {
         m.set_real(f, (k as f64 * 1e-2).sin(), Phase::Running)
             .unwrap();
@@ -60,7 +43,7 @@ fn a_communication_step_does_not_allocate() {
         m.do_step(k as f64 * h, h).unwrap();
         m.get_reals(&outs, &mut out).unwrap();
     }
-    let after = ALLOCATIONS.load(Ordering::Relaxed);
+    let after = alloc_counter::allocations();
     assert!(out[0].abs() > 0.0 && out[2] > 0.0);
     assert_eq!(after - before, 0, "allocations in 1000 steps");
 }

@@ -10,10 +10,7 @@
 
 mod fxb_files;
 use fxb_files::fxb_files;
-use std::alloc::{GlobalAlloc, Layout, System};
 use std::panic::{AssertUnwindSafe, catch_unwind};
-
-use std::sync::atomic::{AtomicUsize, Ordering};
 
 use fxbody::body::Body;
 use fxbody::fxb;
@@ -29,39 +26,10 @@ const HEAP_PER_BYTE: usize = 64;
 /// Constant part of the heap bound (messages, line buffers, small matrices).
 const HEAP_CONSTANT: usize = 1 << 20;
 
-struct Counting;
-
-static LIVE: AtomicUsize = AtomicUsize::new(0);
-static PEAK: AtomicUsize = AtomicUsize::new(0);
-
-// SAFETY: forwards to the system allocator unchanged; only counts sizes.
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        let live = LIVE.fetch_add(layout.size(), Ordering::Relaxed) + layout.size();
-        PEAK.fetch_max(live, Ordering::Relaxed);
-        // SAFETY: same layout contract as the caller's.
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        LIVE.fetch_sub(layout.size(), Ordering::Relaxed);
-        // SAFETY: ptr was allocated by System with this layout.
-        unsafe { System.dealloc(ptr, layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        let live = LIVE.fetch_add(new_size, Ordering::Relaxed) + new_size;
-        PEAK.fetch_max(live, Ordering::Relaxed);
-        // SAFETY: ptr was allocated by System with this layout; same contract.
-        let p = unsafe { System.realloc(ptr, layout, new_size) };
-        LIVE.fetch_sub(
-            if p.is_null() { new_size } else { layout.size() },
-            Ordering::Relaxed,
-        );
-        p
-    }
-}
+mod alloc_counter;
 
 #[global_allocator]
-static ALLOC: Counting = Counting;
+static GLOBAL: alloc_counter::Counting = alloc_counter::Counting;
 
 /// xorshift64: a small deterministic generator, enough to pick positions.
 struct Rng(u64);
@@ -273,10 +241,9 @@ fn mutated_files_never_panic() {
         for k in 0..per_file {
             let text = mutate(&mut rng, &original);
             cases += 1;
-            let base = LIVE.load(Ordering::Relaxed);
-            PEAK.store(base, Ordering::Relaxed);
+            let base = alloc_counter::reset_peak();
             let outcome = catch_unwind(AssertUnwindSafe(|| exercise(&text)));
-            let peak = PEAK.load(Ordering::Relaxed).saturating_sub(base);
+            let peak = alloc_counter::peak_bytes().saturating_sub(base);
             worst_ratio = worst_ratio.max(peak as f64 / text.len().max(1) as f64);
             if peak > HEAP_PER_BYTE * text.len() + HEAP_CONSTANT {
                 heavy.push(format!(

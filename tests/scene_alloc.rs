@@ -2,8 +2,6 @@
 //! method, blocked and free): a counting global allocator (this test binary only) counts
 //! allocations made by this thread while loads are set, steps taken and outputs read.
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
 use std::path::PathBuf;
 use std::sync::Arc;
 
@@ -11,33 +9,13 @@ use fxbody::fxb::{coords, load_body};
 use fxbody::scene::Scene;
 use fxbody::solver::{Method, Options, build};
 
-struct Counting;
-
-thread_local! {
-    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
-}
-
-// SAFETY: every call is passed unchanged to the system allocator, which upholds the
-// GlobalAlloc contract; the only addition is a thread-local counter update.
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        ALLOCATIONS.with(|c| c.set(c.get() + 1));
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        unsafe { System.dealloc(ptr, layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        ALLOCATIONS.with(|c| c.set(c.get() + 1));
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-}
+mod alloc_counter;
 
 #[global_allocator]
-static GLOBAL: Counting = Counting;
+static GLOBAL: alloc_counter::Counting = alloc_counter::Counting;
 
 fn count() -> usize {
-    ALLOCATIONS.with(|c| c.get())
+    alloc_counter::allocations()
 }
 
 fn scene(name: &str, ids: &[i64]) -> Scene {
