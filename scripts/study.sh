@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Speed against accuracy (issue 8), from scratch: the Python peers (numpy exact state
 # space; Exudyn when importable), then `fxbody study` (every method over a range of
-# communication steps, stability map, dense-product bound), which also draws
+# communication steps, mode-count sweep, stability map, dense-product bound), which also draws
 # docs/study.svg and writes docs/study_results.md. Usage: scripts/study.sh [--quick]
 # (--quick: about half a minute, written to out/study_quick/ so docs/ keeps the full run).
 set -euo pipefail
