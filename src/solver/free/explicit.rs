@@ -49,6 +49,7 @@ use super::{
 };
 use crate::body::stable_step;
 use crate::scene::Scene;
+use crate::solver::nodes::check_state;
 use crate::solver::{Frame, Method, Options, Solver, SolverError, State};
 
 /// Mid-step frame of the Irot = 1 rows, predicted with the old half-step velocities:
@@ -548,19 +549,7 @@ impl Solver for Explicit {
     }
 
     fn set_state(&mut self, state: &State) -> Result<(), SolverError> {
-        if state.method != Method::Explicit {
-            return Err(SolverError::BadState(format!(
-                "saved by method {:?}, this solver is Explicit",
-                state.method
-            )));
-        }
-        if state.data.len() != self.state_len() {
-            return Err(SolverError::BadState(format!(
-                "expected {} values for this free body, got {}",
-                self.state_len(),
-                state.data.len()
-            )));
-        }
+        check_state(state, Method::Explicit, self.state_len())?;
         let nq = self.m.nq();
         let d = &state.data;
         self.t = d[0];

@@ -35,6 +35,7 @@ use super::{
     point_vec, singular_error,
 };
 use crate::scene::Scene;
+use crate::solver::nodes::check_state;
 use crate::solver::{Frame, Method, Options, Solver, SolverError, State};
 
 /// Newton tolerance on the frame constraints `|d|^2 - c` (dimensionless).
@@ -710,19 +711,7 @@ impl Solver for Implicit {
     }
 
     fn set_state(&mut self, state: &State) -> Result<(), SolverError> {
-        if state.method != Method::Implicit {
-            return Err(SolverError::BadState(format!(
-                "saved by method {:?}, this solver is Implicit",
-                state.method
-            )));
-        }
-        if state.data.len() != self.state_len() {
-            return Err(SolverError::BadState(format!(
-                "expected {} values for this free body, got {}",
-                self.state_len(),
-                state.data.len()
-            )));
-        }
+        check_state(state, Method::Implicit, self.state_len())?;
         let (nq, nc) = (self.m.nq(), self.m.nc());
         let d = &state.data;
         self.t = d[0];
