@@ -25,8 +25,12 @@ fn reference(name: &str) -> Value {
 
 /// Run `fxbody reduce` and read the output back.
 fn reduce(name: &str, nodes: &str, fmax: f64) -> (Body, String) {
+    // The tests of this binary run in parallel threads of one process: a per-call
+    // serial number in the file name keeps two calls from ever sharing a file.
+    static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let serial = CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
     let out = std::env::temp_dir().join(format!(
-        "fxbody_scene_reduce_{}_{name}.fxb",
+        "fxbody_scene_reduce_{}_{serial}_{name}.fxb",
         std::process::id()
     ));
     let run = Command::new(env!("CARGO_BIN_EXE_fxbody"))
