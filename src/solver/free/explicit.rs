@@ -439,12 +439,7 @@ impl Solver for Explicit {
 
     fn set_load_rates(&mut self, rates: &[f64]) -> Result<(), SolverError> {
         self.m.check_loads("load rates", rates)?;
-        // Keep the load continuous: re-anchor the values at the current time.
-        for i in 0..rates.len() {
-            self.loads.values[i] = self.loads.at(i, self.t);
-        }
-        self.loads.t_set = self.t;
-        self.loads.rates.copy_from_slice(rates);
+        self.loads.set_rates(rates, self.t);
         Ok(())
     }
 

@@ -621,11 +621,7 @@ impl Solver for Implicit {
 
     fn set_load_rates(&mut self, rates: &[f64]) -> Result<(), SolverError> {
         self.m.check_loads("load rates", rates)?;
-        for i in 0..rates.len() {
-            self.loads.values[i] = self.loads.at(i, self.t);
-        }
-        self.loads.t_set = self.t;
-        self.loads.rates.copy_from_slice(rates);
+        self.loads.set_rates(rates, self.t);
         Ok(())
     }
 

@@ -162,6 +162,16 @@ impl Loads {
         self.values[i] + self.rates[i] * (t - self.t_set)
     }
 
+    /// New rates from time `t`, keeping the load continuous: the values are re-anchored
+    /// at `t` first. `rates` has been checked for length and finiteness.
+    pub fn set_rates(&mut self, rates: &[f64], t: f64) {
+        for i in 0..rates.len() {
+            self.values[i] = self.at(i, t);
+        }
+        self.t_set = t;
+        self.rates.copy_from_slice(rates);
+    }
+
     /// Push into a state vector.
     pub fn save(&self, out: &mut Vec<f64>) {
         out.extend_from_slice(&self.values);
