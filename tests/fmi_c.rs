@@ -2,6 +2,8 @@
 //! library, runs 1,000 steps of a held tip load, and its result must equal the Rust
 //! solver driven directly over the same scene.
 
+mod c_build;
+
 use std::path::PathBuf;
 use std::process::Command;
 
@@ -35,27 +37,7 @@ fn c_master_matches_the_rust_solver() {
     }
     let so = unz.join("binaries/linux64/cantilever.so");
     let exe = tmp.join("driver");
-    let cc = Command::new("cc")
-        .args([
-            "-O2",
-            "-Wall",
-            "-Werror",
-            "-std=c99",
-            "-D_POSIX_C_SOURCE=200809L",
-            "-I",
-        ])
-        .arg(root().join("include"))
-        .arg(root().join("tests/c/fmu_driver.c"))
-        .arg("-o")
-        .arg(&exe)
-        .args(["-ldl", "-lm"])
-        .output()
-        .expect("a C compiler `cc` on PATH");
-    assert!(
-        cc.status.success(),
-        "cc failed: {}",
-        String::from_utf8_lossy(&cc.stderr)
-    );
+    c_build::compile_c_master("fmu_driver.c", &exe, &["-O2"]);
     let vr = |n: &str| {
         p.table
             .vars

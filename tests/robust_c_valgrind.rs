@@ -5,38 +5,18 @@
 //! leak (scripts/robust-long.sh runs the long one).
 #![cfg(target_os = "linux")]
 
+mod c_build;
 mod robust_common;
 
 use std::process::Command;
 
-use robust_common::{H, packed, root};
+use robust_common::{H, packed};
 
 #[test]
 fn careless_c_master_and_short_valgrind_pass() {
     let fx = packed("cdriver");
     let exe = fx.dir.join("robust_driver");
-    let cc = Command::new("cc")
-        .args([
-            "-g",
-            "-O1",
-            "-Wall",
-            "-Werror",
-            "-std=c99",
-            "-D_POSIX_C_SOURCE=200809L",
-            "-I",
-        ])
-        .arg(root().join("include"))
-        .arg(root().join("tests/c/robust_driver.c"))
-        .arg("-o")
-        .arg(&exe)
-        .args(["-ldl", "-lm"])
-        .output()
-        .expect("a C compiler `cc` on PATH");
-    assert!(
-        cc.status.success(),
-        "cc: {}",
-        String::from_utf8_lossy(&cc.stderr)
-    );
+    c_build::compile_c_master("robust_driver.c", &exe, &["-g", "-O1"]);
     let args = |steps: usize| {
         vec![
             fx.so.display().to_string(),
