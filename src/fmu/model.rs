@@ -266,17 +266,10 @@ impl Model {
         let Some(s) = self.solver.as_ref() else {
             return Err("no solver".into());
         };
-        // Only what is asked for: a master polling one position pays for positions only.
-        let wants = |f: fn(&Kind) -> bool| {
-            vrs.iter()
-                .any(|&r| self.table.get(r).is_some_and(|v| f(&v.kind)))
-        };
-        if wants(|k| matches!(k, Kind::Position { .. })) {
-            s.positions(&mut self.pos);
-        }
-        if wants(|k| matches!(k, Kind::Velocity { .. })) {
-            s.velocities(&mut self.vel);
-        }
+        // Only what is asked for: a master polling one position pays for that position
+        // (one row) when the method can give it alone, otherwise for the positions only;
+        // velocities likewise are computed only when one is asked for.
+        let (mut all_pos, mut all_vel) = (false, false);
         for (&vr, o) in vrs.iter().zip(out.iter_mut()) {
             let Some(var) = self.table.get(vr) else {
                 return Err(format!(
@@ -295,8 +288,23 @@ impl Model {
                 Kind::V0(c) => self.scene.v0[c],
                 Kind::W0(c) => self.scene.w0[c],
                 Kind::Load { node, comp } => self.loads[6 * node + comp],
-                Kind::Position { node, comp } => self.pos[3 * node + comp],
-                Kind::Velocity { node, comp } => self.vel[3 * node + comp],
+                Kind::Position { node, comp } => match s.position(3 * node + comp) {
+                    Some(x) => x,
+                    None => {
+                        if !all_pos {
+                            s.positions(&mut self.pos);
+                            all_pos = true;
+                        }
+                        self.pos[3 * node + comp]
+                    }
+                },
+                Kind::Velocity { node, comp } => {
+                    if !all_vel {
+                        s.velocities(&mut self.vel);
+                        all_vel = true;
+                    }
+                    self.vel[3 * node + comp]
+                }
                 Kind::KineticEnergy => s.kinetic_energy(),
                 Kind::StrainEnergy => s.strain_energy(),
                 Kind::FrameOrigin(c) => s.frame().map_or(f64::NAN, |f| f.origin[c]),

@@ -209,6 +209,10 @@ impl Solver for Explicit {
         self.io.positions(&self.q, out);
     }
 
+    fn position(&self, k: usize) -> Option<f64> {
+        self.io.position(k, &self.q)
+    }
+
     fn velocities(&self, out: &mut [f64]) {
         self.io.translations(&self.vout, out);
     }

@@ -220,6 +220,10 @@ impl Solver for Implicit {
         self.io.positions(&self.y, out);
     }
 
+    fn position(&self, k: usize) -> Option<f64> {
+        self.io.position(k, &self.y)
+    }
+
     fn velocities(&self, out: &mut [f64]) {
         self.io.translations(&self.v, out);
     }

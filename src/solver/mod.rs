@@ -134,6 +134,12 @@ pub trait Solver: Send {
     fn step(&mut self, h: f64) -> Result<(), SolverError>;
     /// Global positions of the exposed nodes (3 per node).
     fn positions(&self, out: &mut [f64]);
+    /// Position value `k` alone (node `k / 3`, component `k % 3`), bit for bit the entry
+    /// `k` of [`Solver::positions`], for methods that can give it cheaper than all of
+    /// them; `None` means "call `positions`".
+    fn position(&self, _k: usize) -> Option<f64> {
+        None
+    }
     /// Global velocities of the exposed nodes (3 per node).
     fn velocities(&self, out: &mut [f64]);
     /// Global accelerations of the exposed nodes (3 per node).

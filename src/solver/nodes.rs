@@ -143,7 +143,7 @@ impl Exposed {
         Ok(())
     }
 
-    /// `f = gt loads`.
+    /// `f = gt loads` (only the nonzero loads cost anything).
     fn project_loads(&mut self) {
         self.f.as_mut_slice().fill(0.0);
         gemv_acc(
@@ -153,7 +153,7 @@ impl Exposed {
         );
     }
 
-    /// `fd = gt rates`.
+    /// `fd = gt rates` (only the nonzero rates cost anything).
     fn project_rates(&mut self) {
         self.fd.as_mut_slice().fill(0.0);
         gemv_acc(
@@ -191,6 +191,13 @@ impl Exposed {
     /// values only (the contract is 3 per exposed node).
     pub fn positions(&self, c: &DVector<f64>, out: &mut [f64]) {
         self.rows_dot(0, c.as_slice(), Some(self.x0.as_slice()), out);
+    }
+
+    /// Position value `k` (node `k / 3`, component `k % 3`) alone: `x0[k] + row . c`,
+    /// the same bits as [`Exposed::positions`] gives for that entry. A master that polls
+    /// one position then pays for one row, not all of them.
+    pub fn position(&self, k: usize, c: &DVector<f64>) -> Option<f64> {
+        (k < 3 * self.nodes).then(|| self.x0[k] + dot(self.row(k / 3, k % 3), c.as_slice()))
     }
 
     /// Translation rows times `c` (velocities or accelerations).
