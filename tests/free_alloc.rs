@@ -40,6 +40,10 @@ fn stepping_does_not_allocate() {
                 s.positions(&mut out);
                 s.velocities(&mut out);
                 s.accelerations(&mut out);
+                s.rotation_rates(&mut out);
+                std::hint::black_box(s.kinetic_energy() + s.strain_energy());
+                std::hint::black_box(s.frame());
+                std::hint::black_box(s.modal().len());
             }
             let n = alloc_counter::allocations() - before;
             assert_eq!(

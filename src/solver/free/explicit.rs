@@ -40,6 +40,8 @@
 //! increment (error about `omega dt / 2`, measured 2e-3 on a test tumble), while with the
 //! mid-step frame the pair entries average out and the rate is second-order accurate.
 
+use std::cell::RefCell;
+
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 
 use super::lu::Lu;
@@ -85,6 +87,9 @@ pub struct Explicit {
     jump: bool,
     loads: Loads,
     w: Work,
+    /// Synchronised coordinate velocities, filled on demand by the output getters
+    /// (which take `&self` and must not allocate).
+    v_out: RefCell<DVector<f64>>,
 }
 
 /// Preallocated storage for one acceleration evaluation.
@@ -146,6 +151,7 @@ impl Explicit {
             a_out: DVector::zeros(nq),
             jump: false,
             w,
+            v_out: RefCell::new(DVector::zeros(nq)),
         };
         s.evaluate_outputs()?;
         Ok(s)
@@ -402,7 +408,17 @@ impl Explicit {
 
     /// Frame angular velocity (global) at the current time.
     pub fn frame_angular_velocity(&self) -> Vector3<f64> {
-        super::frame_omega(&self.p, self.velocity_coordinates().as_slice())
+        self.with_velocity(|v| super::frame_omega(&self.p, v.as_slice()))
+    }
+
+    /// Run `f` on the synchronised coordinate velocities, held in the preallocated
+    /// `v_out` (no allocation).
+    fn with_velocity<R>(&self, f: impl FnOnce(&DVector<f64>) -> R) -> R {
+        let mut v = self.v_out.borrow_mut();
+        for (i, x) in v.iter_mut().enumerate() {
+            *x = self.v_sync(i);
+        }
+        f(&v)
     }
 
     fn state_len(&self) -> usize {
@@ -504,8 +520,7 @@ impl Solver for Explicit {
     }
 
     fn rotation_rates(&self, out: &mut [f64]) {
-        self.m
-            .rotation_rates(&self.velocity_coordinates(), &self.p, out);
+        self.with_velocity(|v| self.m.rotation_rates(v, &self.p, out));
     }
 
     fn modal(&self) -> &[f64] {
@@ -517,7 +532,7 @@ impl Solver for Explicit {
     }
 
     fn kinetic_energy(&self) -> f64 {
-        self.m.kinetic_energy(&self.velocity_coordinates(), &self.p)
+        self.with_velocity(|v| self.m.kinetic_energy(v, &self.p))
     }
 
     fn frame(&self) -> Option<Frame> {

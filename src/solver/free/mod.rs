@@ -422,21 +422,21 @@ impl Model {
 
     /// Strain energy `1/2 alpha^T K_L alpha`.
     pub fn strain_energy(&self, q: &DVector<f64>) -> f64 {
-        let a = q.rows(self.nr, self.nl);
-        0.5 * (a.transpose() * &self.k_l * a)[(0, 0)]
+        let a = &q.as_slice()[self.nr..self.nr + self.nl];
+        0.5 * bilinear(&self.k_l, a, a)
     }
 
     /// Kinetic energy `1/2 v_R^T M_R v_R + v_R^T M_C v_L + 1/2 sum m_L v_L^2` with
     /// `M_C` for the frame `p`.
     pub fn kinetic_energy(&self, v: &DVector<f64>, p: &Matrix3<f64>) -> f64 {
-        let vr = v.rows(0, self.nr);
-        let vl = v.rows(self.nr, self.nl);
-        let mut e = 0.5 * vr.dot(&(&self.m_r * vr));
+        let vr = &v.as_slice()[..self.nr];
+        let vl = &v.as_slice()[self.nr..self.nr + self.nl];
+        let mut e = 0.5 * bilinear(&self.m_r, vr, vr);
         for k in 0..3 {
             for l in 0..3 {
                 let pk = p[(k, l)];
                 if pk != 0.0 {
-                    e += pk * vr.dot(&(&self.m_c_kl[3 * k + l] * vl));
+                    e += pk * bilinear(&self.m_c_kl[3 * k + l], vr, vl);
                 }
             }
         }
@@ -577,4 +577,19 @@ pub(crate) fn singular_error(ratio: f64) -> SolverError {
         "the rigid-motion system is singular (pivot ratio {ratio:.1e}): a body whose \
          nodes all lie on one line has no inertia about that line"
     ))
+}
+
+/// `x^T a y` for the column-major `a` (`x.len()` rows, `y.len()` columns), without
+/// temporaries: energy outputs may be read at every communication step, where nothing
+/// may allocate.
+fn bilinear(a: &DMatrix<f64>, x: &[f64], y: &[f64]) -> f64 {
+    debug_assert_eq!((a.nrows(), a.ncols()), (x.len(), y.len()));
+    if x.is_empty() {
+        return 0.0;
+    }
+    a.as_slice()
+        .chunks_exact(x.len())
+        .zip(y)
+        .map(|(col, &yj)| yj * crate::solver::dense::dot(col, x))
+        .sum()
 }
