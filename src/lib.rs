@@ -5,6 +5,9 @@
 //! solver ([`solver`]) -> FMI boundary ([`fmi`]); [`fmu`] writes the description and the
 //! package.
 
+// Every public item says what it is and why (the project's standard), checked by clippy.
+#![warn(missing_docs)]
+
 pub mod body;
 pub mod fmi;
 pub mod fmu;

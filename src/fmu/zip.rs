@@ -75,7 +75,7 @@ pub fn write(entries: &[Entry]) -> Result<Vec<u8>, String> {
     Ok(out)
 }
 
-/// Read back a store-only archive written by [`write`] (or any archive of stored
+/// Read back a store-only archive written by [`write()`] (or any archive of stored
 /// members): `(name, data)` in order, with every CRC checked. Used by the tests and by
 /// `demo` to unpack an FMU without a zip crate.
 pub fn read(bytes: &[u8]) -> Result<Vec<(String, Vec<u8>)>, String> {

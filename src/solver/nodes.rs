@@ -272,6 +272,7 @@ pub struct LocalCoords {
 }
 
 impl LocalCoords {
+    /// Empty (stale) coordinates for `nl` local modes, with their buffer allocated now.
     pub fn new(nl: usize) -> LocalCoords {
         LocalCoords {
             value: OnceCell::new(),
