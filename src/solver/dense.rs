@@ -1,8 +1,8 @@
 //! Small dense kernels on plain column-major slices, written so that the inner loops run
 //! over contiguous memory without bounds checks: a dot product, a register-blocked
-//! matrix-vector update, and the quadratic form for energies.
+//! matrix-vector update, and the bilinear (and quadratic) form for energies.
 
-use nalgebra::{DMatrix, DVector};
+use nalgebra::DMatrix;
 
 /// Dot product with four independent partial sums, so that the additions pipeline
 /// instead of waiting on one another.
@@ -80,17 +80,19 @@ fn gemv_block<const B: usize>(a: &[f64], lda: usize, r0: usize, x: &[f64], out: 
     out[r0..r0 + B].copy_from_slice(&acc);
 }
 
-/// `x^T k x` without temporaries.
-pub fn quadratic(k: &DMatrix<f64>, x: &DVector<f64>) -> f64 {
-    let n = x.len();
+/// `x^T a y` for the column-major `a` (`x.len()` rows, `y.len()` columns) without
+/// temporaries: energy outputs may be read at every communication step, where nothing
+/// may allocate. The quadratic form `x^T k x` is `bilinear(k, x, x)`.
+pub fn bilinear(a: &DMatrix<f64>, x: &[f64], y: &[f64]) -> f64 {
+    debug_assert_eq!((a.nrows(), a.ncols()), (x.len(), y.len()));
     let mut total = 0.0;
-    for j in 0..n {
-        let col = k.column(j);
+    for (j, &yj) in y.iter().enumerate() {
+        let col = a.column(j);
         let mut s = 0.0;
-        for i in 0..n {
-            s += col[i] * x[i];
+        for (i, &xi) in x.iter().enumerate() {
+            s += col[i] * xi;
         }
-        total += s * x[j];
+        total += s * yj;
     }
     total
 }
@@ -98,6 +100,7 @@ pub fn quadratic(k: &DMatrix<f64>, x: &DVector<f64>) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use nalgebra::DVector;
 
     #[test]
     fn kernels_match_nalgebra() {
@@ -134,7 +137,11 @@ mod tests {
         }
         let k = DMatrix::from_fn(4, 4, |i, j| 1.0 / (1 + i + j) as f64);
         let x = DVector::from_fn(4, |i, _| i as f64 - 1.5);
-        let q = quadratic(&k, &x);
+        let q = bilinear(&k, x.as_slice(), x.as_slice());
         assert!((q - x.dot(&(&k * &x))).abs() < 1e-13 * q.abs());
+        let r = DMatrix::from_fn(3, 4, |i, j| (i as f64 + 1.0) * 0.5 - j as f64);
+        let u = DVector::from_fn(3, |i, _| 2.0 - i as f64);
+        let b = bilinear(&r, u.as_slice(), x.as_slice());
+        assert!((b - u.dot(&(&r * &x))).abs() < 1e-13 * b.abs().max(1.0));
     }
 }

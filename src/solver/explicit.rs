@@ -34,7 +34,7 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use super::dense::quadratic;
+use super::dense::bilinear;
 use super::nodes::{Exposed, check_state};
 use super::{Frame, Method, Options, Solver, SolverError, State};
 use crate::body::stable_step;
@@ -230,7 +230,7 @@ impl Solver for Explicit {
     }
 
     fn strain_energy(&self) -> f64 {
-        0.5 * quadratic(&self.k, &self.q)
+        0.5 * bilinear(&self.k, self.q.as_slice(), self.q.as_slice())
     }
 
     /// `1/2 sum m_L v^2` with the full-step velocity estimate.

@@ -403,7 +403,7 @@ impl Explicit {
 
     /// Synchronised coordinate velocities (allocates; for outputs and tests only).
     pub fn velocity_coordinates(&self) -> DVector<f64> {
-        DVector::from_fn(self.v.len(), |i, _| self.v_sync(i))
+        self.with_velocity(|v| v.clone())
     }
 
     /// Frame angular velocity (global) at the current time.

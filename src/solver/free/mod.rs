@@ -23,6 +23,7 @@
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 
 use super::SolverError;
+use super::dense::bilinear;
 use crate::body::Body;
 use crate::scene::Scene;
 
@@ -577,19 +578,4 @@ pub(crate) fn singular_error(ratio: f64) -> SolverError {
         "the rigid-motion system is singular (pivot ratio {ratio:.1e}): a body whose \
          nodes all lie on one line has no inertia about that line"
     ))
-}
-
-/// `x^T a y` for the column-major `a` (`x.len()` rows, `y.len()` columns), without
-/// temporaries: energy outputs may be read at every communication step, where nothing
-/// may allocate.
-fn bilinear(a: &DMatrix<f64>, x: &[f64], y: &[f64]) -> f64 {
-    debug_assert_eq!((a.nrows(), a.ncols()), (x.len(), y.len()));
-    if x.is_empty() {
-        return 0.0;
-    }
-    a.as_slice()
-        .chunks_exact(x.len())
-        .zip(y)
-        .map(|(col, &yj)| yj * crate::solver::dense::dot(col, x))
-        .sum()
 }
