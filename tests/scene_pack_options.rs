@@ -4,9 +4,13 @@
 
 use std::path::PathBuf;
 
+mod solver_support;
+
 use fxbody::fmu::pack::{Fmax, PackRequest, prepare, prepare_with};
-use fxbody::fxb::{FxbFile, write};
+use fxbody::fxb::write;
+use fxbody::reduce::to_fxb;
 use serde_json::Value;
+use solver_support::{IDENTITY, blocked_body};
 
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -98,29 +102,12 @@ fn write_body(dir: &std::path::Path, n: usize) -> PackRequest {
         2.0 * std::f64::consts::PI * 5.0,
         2.0 * std::f64::consts::PI * 40.0,
     );
-    let f = FxbFile {
-        nbmod: nl,
-        nbstat: 0,
-        nbnod: n,
-        irot: true,
-        idamp: false,
-        iblo: true,
-        ifile: false,
-        node_ids: (1..=n as i64).collect(),
-        p0: [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0],
-        freq: 40.0,
-        damping: None,
-        rigid_modes: Vec::new(),
-        local_modes: local,
-        m_l: vec![1.0; nl],
-        k_full: Vec::new(),
-        k_diag: vec![w1 * w1, w2 * w2],
-        m_r: Vec::new(),
-        m_c: Vec::new(),
-        k_c: Vec::new(),
-    };
+    let k_l = [w1 * w1, 0.0, 0.0, w2 * w2];
+    let mut b = blocked_body(&[1.0; 2], &k_l, &local, n, IDENTITY, None);
+    // Store the true top frequency, so the file draws no Freq warning.
+    b.freq_file = 40.0;
     let body = dir.join(format!("big{n}.fxb"));
-    std::fs::write(&body, write(&f)).unwrap();
+    std::fs::write(&body, write(&to_fxb(&b))).unwrap();
     let mut csv = String::from("id,x,y,z\n");
     for k in 1..=n {
         csv.push_str(&format!("{k},{},0,0\n", k as f64 * 0.01));
