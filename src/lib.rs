@@ -12,6 +12,7 @@ pub mod body;
 pub mod fmi;
 pub mod fmu;
 pub mod fxb;
+pub mod num;
 pub mod reduce;
 pub mod scene;
 pub mod solver;

@@ -284,9 +284,17 @@ pub unsafe extern "C" fn fmi2DoStep(
 ) -> fmi2Status {
     let _ = noSetFMUStatePriorToCurrentPoint; // not needed by this FMU
     enter(c, "fmi2DoStep", state::DO_STEP, |inst| {
-        inst.model
-            .do_step(currentCommunicationPoint, communicationStepSize)?;
-        Ok(fmi2OK)
+        match inst
+            .model
+            .do_step(currentCommunicationPoint, communicationStepSize)?
+        {
+            Some(warning) => {
+                inst.log
+                    .send(fmi2Warning, LOG_WARNING, &format!("fmi2DoStep: {warning}"));
+                Ok(fmi2Warning)
+            }
+            None => Ok(fmi2OK),
+        }
     })
 }
 

@@ -396,8 +396,9 @@ impl Model {
         }
     }
 
-    /// One communication step from `t` to `t + h`.
-    pub fn do_step(&mut self, t: f64, h: f64) -> Result<(), String> {
+    /// One communication step from `t` to `t + h`. `Ok(Some(text))` is a completed step
+    /// with a warning for the master (fmi2Warning).
+    pub fn do_step(&mut self, t: f64, h: f64) -> Result<Option<String>, String> {
         if !(h.is_finite() && h > 0.0) {
             return Err(format!(
                 "communicationStepSize must be finite and > 0, got {h}"
@@ -437,9 +438,10 @@ impl Model {
         if rates_on {
             self.rates.iter_mut().for_each(|r| *r = 0.0);
         }
+        let warning = s.take_warning();
         // Adopt the master's time so that round-off does not accumulate against it.
         self.time = t + h;
-        Ok(())
+        Ok(warning)
     }
 
     /// Back to the state after instantiation (fmi2Reset).
