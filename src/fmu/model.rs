@@ -47,11 +47,12 @@ pub struct Model {
     time: f64,
 }
 
-/// Floating-point spacings (ulps) of the larger time allowed between a master's time
-/// and the FMU's: a master that computes `start + n h` or converts integer ticks differs
-/// from the FMU's `t + h` by one or two roundings per step (the FMU adopts the master's
-/// time every step, so the difference never accumulates); 16 leaves room for masters that
-/// round twice more.
+/// Floating-point spacings (ulps) allowed between a master's time and the FMU's, at the
+/// largest magnitude involved (the two times and the start time): a master that computes
+/// `start + n h` (fmpy does) or converts integer ticks differs from the FMU's `t + h` by
+/// one or two roundings at that magnitude per step (the FMU adopts the master's time every
+/// step, so the difference never accumulates); 16 leaves room for masters that round a
+/// few times more.
 const TIME_ULPS: f64 = 16.0;
 /// The part of the step size allowed as well: near t = 0 the ulps vanish, and a master that
 /// derives h from printed or differenced times is off by about 1e-15 h; 1e-9 h covers it
@@ -59,10 +60,11 @@ const TIME_ULPS: f64 = 16.0;
 const TIME_STEP_FRACTION: f64 = 1e-9;
 
 /// How far two times `a` and `b` may be apart and still name the same instant, for a step
-/// of size `h`: [`TIME_ULPS`] spacings at the larger magnitude plus [`TIME_STEP_FRACTION`]
-/// of `h`. NaN or infinite inputs give NaN or infinity: callers check finiteness first.
-pub fn time_tolerance(a: f64, b: f64, h: f64) -> f64 {
-    let big = a.abs().max(b.abs());
+/// of size `h` in a run that started at `start`: [`TIME_ULPS`] spacings at the largest
+/// magnitude plus [`TIME_STEP_FRACTION`] of `h`. NaN or infinite inputs give NaN or
+/// infinity: callers check finiteness first.
+pub fn time_tolerance(a: f64, b: f64, start: f64, h: f64) -> f64 {
+    let big = a.abs().max(b.abs()).max(start.abs());
     // The spacing of f64 values at `big`: 2^(exponent - 52), at least the smallest
     // subnormal.
     let ulp = if big == 0.0 {
@@ -76,9 +78,16 @@ pub fn time_tolerance(a: f64, b: f64, h: f64) -> f64 {
 }
 
 /// The checks fmi2DoStep makes on its time arguments before anything changes: `h`
-/// finite and positive, `t` the FMU's current `time` (within [`time_tolerance`]), and
-/// `t + h` not past `stop` (within the same tolerance, whatever the sign of the times).
-pub fn check_step_times(t: f64, h: f64, time: f64, stop: Option<f64>) -> Result<(), String> {
+/// finite and positive, `t` the FMU's current `time` (within [`time_tolerance`] for a run
+/// that started at `start`), and `t + h` not past `stop` (within the same tolerance,
+/// whatever the sign of the times).
+pub fn check_step_times(
+    t: f64,
+    h: f64,
+    time: f64,
+    start: f64,
+    stop: Option<f64>,
+) -> Result<(), String> {
     use crate::num::num;
     if !(h.is_finite() && h > 0.0) {
         return Err(format!(
@@ -87,19 +96,20 @@ pub fn check_step_times(t: f64, h: f64, time: f64, stop: Option<f64>) -> Result<
         ));
     }
     // A NaN time compares false, so it is not close and is refused.
-    if !(t.is_finite() && (t - time).abs() <= time_tolerance(t, time, h)) {
+    let tol = time_tolerance(t, time, start, h);
+    if !(t.is_finite() && (t - time).abs() <= tol) {
         return Err(format!(
             "currentCommunicationPoint {} is not the FMU's current time {} (difference {}, \
              tolerance {})",
             num(t),
             num(time),
             num(t - time),
-            num(time_tolerance(t, time, h))
+            num(tol)
         ));
     }
     let end = t + h;
     if let Some(stop) = stop
-        && !(end.is_finite() && (end <= stop || end - stop <= time_tolerance(end, stop, h)))
+        && !(end.is_finite() && (end <= stop || end - stop <= time_tolerance(end, stop, start, h)))
     {
         return Err(format!(
             "the step to {} goes past stopTime {}",
@@ -464,7 +474,7 @@ impl Model {
     /// One communication step from `t` to `t + h`. `Ok(Some(text))` is a completed step
     /// with a warning for the master (fmi2Warning).
     pub fn do_step(&mut self, t: f64, h: f64) -> Result<Option<String>, String> {
-        check_step_times(t, h, self.time, self.stop_time)?;
+        check_step_times(t, h, self.time, self.start_time, self.stop_time)?;
         self.ensure_solver()?;
         let Some(s) = self.solver.as_mut() else {
             return Err("no solver".into());
