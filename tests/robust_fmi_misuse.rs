@@ -112,7 +112,6 @@ fn calls() -> Vec<(&'static str, &'static [At], Call)> {
     ];
     const RESTORE: &[At] = SAVE;
     const OUT_DERIVS: &[At] = &[StepComplete, Terminated, Error];
-    const RUNNING: &[At] = &[StepComplete, Terminated];
     const STATUS: &[At] = &[StepComplete, Terminated, Error, ErrorEarly];
     // SAFETY (every closure below): `c` is a live instance and every pointer passed
     // points to valid, writable memory of the length given.
