@@ -59,14 +59,20 @@ impl Drop for Packed {
 /// Pack the cantilever with its tip node 121 exposed and unpack it under a temporary
 /// folder named after `tag`.
 pub fn packed(tag: &str) -> Packed {
+    packed_body(tag, "cantilever", 121)
+}
+
+/// Pack a fixture body (`fixtures/NAME.fxb` with its node deck) with one node exposed
+/// and unpack it under a temporary folder named after `tag`.
+pub fn packed_body(tag: &str, name: &str, node: i64) -> Packed {
     let dir = std::env::temp_dir().join(format!("fxbody_robust_{tag}_{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let lib = find_library(None).expect("libfxbody.so next to the test executable");
     let fmu = dir.join("tip.fmu");
     let req = PackRequest {
-        body: root().join("fixtures/cantilever.fxb"),
-        coords: Some(root().join("fixtures/cantilever.nodes.rad")),
-        nodes: Some(vec![121]),
+        body: root().join(format!("fixtures/{name}.fxb")),
+        coords: Some(root().join(format!("fixtures/{name}.nodes.rad"))),
+        nodes: Some(vec![node]),
         ..PackRequest::default()
     };
     let p = pack(&req, &lib, &fmu).unwrap();
@@ -76,7 +82,7 @@ pub fn packed(tag: &str) -> Packed {
         std::fs::write(path, data).unwrap();
     }
     let uri = fxbody::fmi::host::file_uri(&dir.join("resources"));
-    let so = dir.join("binaries/linux64/cantilever.so");
+    let so = dir.join(format!("binaries/linux64/{name}.so"));
     Packed { p, dir, uri, so }
 }
 

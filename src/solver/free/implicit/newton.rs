@@ -227,6 +227,9 @@ impl Implicit {
         let w = &mut self.w;
         let (nr, nl, nq, nc) = (m.nr, m.nl, m.nq(), m.nc());
         if refresh && w.lkey != Some((bt, gt)) {
+            // Invalidate first: a factorisation that fails below must not be taken for
+            // the matrix of the old key by a later call.
+            w.lkey = None;
             w.lfac.clear();
             for j in 0..nl {
                 for k in 0..nl {
@@ -237,7 +240,11 @@ impl Implicit {
             let ratio = w.lfac.factor();
             if ratio.is_nan() || ratio <= SINGULAR_RATIO {
                 return Err(SolverError::Singular(format!(
-                    "local iteration matrix is singular (pivot ratio {ratio:.1e})"
+                    "the local (modal) iteration matrix is singular (pivot ratio {}) for the \
+                     step {} s: the step is too large for the numbers to stay finite; use a \
+                     smaller communication step",
+                    crate::num::num(ratio),
+                    crate::num::num(w.h_now)
                 )));
             }
             for (idx, y) in w.ykl.iter_mut().enumerate() {
