@@ -116,6 +116,11 @@ fn careless_on_free(name: &str, node: i64) {
     c_build::compile_c_master("robust_driver.c", &exe, &["-g", "-O1"]);
     let res = fxbody::fmu::scene_io::load_resources(&fx.dir.join("resources")).unwrap();
     let valgrind = Command::new("valgrind").arg("--version").output().is_ok();
+    // A longer pass on demand: FXBODY_MEMCHECK_STEPS=N.
+    let memcheck_steps: usize = std::env::var("FXBODY_MEMCHECK_STEPS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(30);
     for method in [
         fxbody::solver::Method::Explicit,
         fxbody::solver::Method::Implicit,
@@ -176,7 +181,7 @@ fn careless_on_free(name: &str, node: i64) {
             ])
             .arg(format!("--log-file={}", log.display()))
             .arg(&exe)
-            .args(args(30))
+            .args(args(memcheck_steps))
             .output()
             .unwrap();
         let report = std::fs::read_to_string(&log).unwrap_or_default();
@@ -186,6 +191,6 @@ fn careless_on_free(name: &str, node: i64) {
             out.status.code(),
             String::from_utf8_lossy(&out.stdout)
         );
-        println!("{name}, {method:?}: C = Rust, memcheck clean (30 steps)");
+        println!("{name}, {method:?}: C = Rust, memcheck clean ({memcheck_steps} steps)");
     }
 }

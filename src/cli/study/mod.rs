@@ -409,6 +409,8 @@ pub fn run(args: &StudyArgs) -> Result<(), String> {
         }
     }
     write(&args.out.join("stability.csv"), &stab)?;
+    // The spin-rate part of the map (explicit free bodies): spin.csv.
+    spin_map(args)?;
 
     // The physical limit.
     eprintln!("dense-product bound");
