@@ -232,8 +232,6 @@ pub(crate) struct Model {
     pub s_grav: DVector<f64>,
     /// `G_R = M_R s`.
     pub g_r: DVector<f64>,
-    /// Largest frequency of (K_L, m_L), Hz.
-    pub freq_max: f64,
     /// Mass scale used to scale constraint rows.
     pub mass_scale: f64,
 }
@@ -295,7 +293,6 @@ impl Model {
             }
         }
         let g_r = &body.m_r * &s_grav;
-        let freq_max = body.frequencies_hz.iter().cloned().fold(0.0, f64::max);
         let damping = body.damping.unwrap_or_default();
         let mass_scale = (0..12).map(|i| body.m_r[(i, i)].abs()).fold(0.0, f64::max);
         if mass_scale <= 0.0 || !mass_scale.is_finite() {
@@ -328,7 +325,6 @@ impl Model {
             x0,
             s_grav,
             g_r,
-            freq_max,
             mass_scale,
         })
     }
