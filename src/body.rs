@@ -6,6 +6,7 @@ use nalgebra::{DMatrix, DVector, Matrix3};
 use crate::fxb::FxbFile;
 
 mod checks;
+pub mod placement;
 
 pub use checks::{BodyError, MAX_LOCAL_MODES};
 
@@ -97,7 +98,7 @@ impl Body {
     /// `Z e_1` (FORMULATION.md section 1), so the x-translation rows of modes 1, 4 and 7
     /// give each node's local coordinates `(X, Y, Z)`, and `x0 = P0 (X, Y, Z)`. These
     /// fix every node relative to L0: a coordinate file only places L0
-    /// ([`crate::fxb::coords::check_free_body`]).
+    /// ([`placement::check_coords`]).
     pub fn rigid_mode_positions(&self) -> Option<Vec<[f64; 3]>> {
         if self.nr() < 12 {
             return None;

@@ -102,6 +102,19 @@ pub fn prepare_with(req: &PackRequest, fmax: Option<Fmax>) -> Result<Prepared, P
         },
     };
     let map = coords::to_map(&xyz);
+    if let Some(c) = &req.coords
+        && let Some(o) =
+            crate::body::placement::check_coords(&body, &map, &c.display().to_string(), &body_name)
+                .map_err(e)?
+    {
+        notes.push(format!(
+            "{}: node positions match the rigid modes; frame origin L0 placed at ({}, {}, {})",
+            c.display(),
+            crate::num::num(o[0]),
+            crate::num::num(o[1]),
+            crate::num::num(o[2])
+        ));
+    }
     let nodes = req.nodes.clone().unwrap_or_else(|| body.node_ids.clone());
     for id in &nodes {
         if body.node_index(*id).is_none() {
