@@ -352,7 +352,7 @@ fn subnormal_local_mass_is_refused() {
 }
 
 #[test]
-fn body_stable_step_is_the_computed_frequency_s() {
+fn body_stable_step_comes_from_the_computed_frequency() {
     // Stored Freq 1e-98 (a warning only): the step comes from the computed frequency,
     // the same value the explicit solver uses.
     let mut f = read("fmt_fixed.fxb");

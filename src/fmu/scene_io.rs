@@ -130,7 +130,7 @@ pub struct Resources {
 pub fn load_resources(dir: &Path) -> Result<Resources, String> {
     let read = |name: &str| {
         let p = dir.join(name);
-        std::fs::read(&p).map_err(|e| format!("cannot read {}: {e}", p.display()))
+        fxb::input::read_regular(&p).map_err(|e| format!("cannot read {}: {e}", p.display()))
     };
     let body_bytes = read(BODY_FILE)?;
     let coords_bytes = read(COORDS_FILE)?;
