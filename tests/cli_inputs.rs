@@ -201,5 +201,24 @@ fn pack_checks_the_model_name() {
         assert!(stderr(&o).contains(want), "{name}: {}", stderr(&o));
         assert!(!out.exists());
     }
+    // Without --name the file stem is the name: a 100-character stem is refused too.
+    let long_body = d.join(format!("{}.fxb", "b".repeat(100)));
+    std::fs::copy(data("body_b1_r0_d0.fxb"), &long_body).unwrap();
+    let o = run(&[
+        "pack",
+        long_body.to_str().unwrap(),
+        "--coords",
+        data("nodes.csv").to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--lib",
+        "Cargo.toml",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("the file name's 100 characters, more than 64: give --name"),
+        "{}",
+        stderr(&o)
+    );
     std::fs::remove_dir_all(&d).ok();
 }

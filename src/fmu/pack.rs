@@ -172,8 +172,15 @@ pub fn prepare_with(req: &PackRequest, fmax: Option<Fmax>) -> Result<Prepared, P
             body.nl() - kept
         ));
     }
-    if let Some(n) = &req.name {
-        check_name(n).map_err(e)?;
+    match &req.name {
+        Some(n) => check_name(n).map_err(e)?,
+        None if stem.chars().count() > MAX_NAME => {
+            return Err(e(format!(
+                "{body_name}: the model name would be the file name's {} characters, more than {MAX_NAME}: give --name",
+                stem.chars().count()
+            )));
+        }
+        None => {}
     }
     let all_exposed = req.nodes.is_none();
     let options = SceneOptions {
