@@ -5,7 +5,7 @@
 //! Before each step the solver state is saved into a reused buffer (no allocation once
 //! it has held one state). After the step the guard checks the solver state (it holds
 //! everything the future depends on) and the outputs: node positions, velocities and
-//! accelerations and both energies. The outputs are checked as well as the state because
+//! velocities and both energies. The outputs are checked as well as the state because
 //! a finite state does not make them finite: they are sums of products of the state
 //! with the body's matrices (and, for a truncated body, with the loads themselves), which
 //! can overflow. On failure the saved state is put back and the message names the first
@@ -59,10 +59,9 @@ impl StepGuard {
                 .map_or_else(|| format!("{kind:?}"), |v| v.name.clone())
         };
         type Fill = fn(&dyn Solver, &mut [f64]);
-        let outputs: [(Fill, &str); 3] = [
+        let outputs: [(Fill, &str); 2] = [
             (|s, o| s.positions(o), "position"),
             (|s, o| s.velocities(o), "velocity"),
-            (|s, o| s.accelerations(o), "acceleration"),
         ];
         for (fill, what) in outputs {
             fill(s, &mut self.out);
