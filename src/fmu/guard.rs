@@ -5,7 +5,7 @@
 //! Before each step the solver state is saved into a reused buffer (no allocation once
 //! it has held one state). After the step the guard checks the solver state (it holds
 //! everything the future depends on) and the outputs: node positions, velocities and
-//! velocities and both energies. The outputs are checked as well as the state because
+//! both energies. The outputs are checked as well as the state because
 //! a finite state does not make them finite: they are sums of products of the state
 //! with the body's matrices (and, for a truncated body, with the loads themselves), which
 //! can overflow. On failure the saved state is put back and the message names the first
