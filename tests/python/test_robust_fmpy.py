@@ -159,7 +159,7 @@ def test_careless_fmpy_master(cantilever_tip, tmp_path):
     assert run.returncode == 0, run.stdout + run.stderr
     assert "bit for bit: True" in run.stdout, run.stdout
     # Every misuse was refused (the count: 4 illegal calls, 17 listed, 50 random, flips).
-    count = int(run.stdout.split("refused: ")[1].split(";")[0])
+    count = int(run.stdout.split("misuse cases refused: ")[1].split(";")[0])
     assert count >= 4 + 17 + 50, run.stdout
 
 
