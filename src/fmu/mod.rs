@@ -2,6 +2,7 @@
 //! packaging the `.fmu` archive. Safe Rust only; the C ABI is in [`crate::fmi`].
 
 pub mod doc;
+pub mod guard;
 pub mod hash;
 pub mod model;
 pub mod options;

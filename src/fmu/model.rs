@@ -5,6 +5,7 @@
 
 use std::path::Path;
 
+use super::guard::{StepGuard, largest_input};
 use super::scene_io::{Resources, load_resources};
 use super::snapshot::Snapshot;
 use super::vars::{Causality, Kind, VarTable, method_from_value, method_name};
@@ -42,6 +43,8 @@ pub struct Model {
     pos: Vec<f64>,
     vel: Vec<f64>,
     acc: Vec<f64>,
+    /// Rollback buffer and finiteness check of each step.
+    guard: StepGuard,
     start_time: f64,
     stop_time: Option<f64>,
     time: f64,
@@ -145,6 +148,7 @@ impl Model {
             pos: vec![0.0; 3 * m],
             vel: vec![0.0; 3 * m],
             acc: vec![0.0; 3 * m],
+            guard: StepGuard::new(m),
             start_time: 0.0,
             stop_time: None,
             time: 0.0,
@@ -479,19 +483,57 @@ impl Model {
         let Some(s) = self.solver.as_mut() else {
             return Err("no solver".into());
         };
-        // Pass loads and rates only when they changed: both make the solver re-project
-        // the loads onto the modes.
+        // The state before the step, put back if the step fails or leaves a non-finite
+        // number anywhere (guard.rs): a refused step changes nothing.
+        self.guard.save(s.as_ref());
+        let stepped = step_solver(
+            s.as_mut(),
+            h,
+            &self.loads,
+            &self.rates,
+            self.loads_dirty,
+            self.rates_applied,
+        );
+        let bad = match stepped {
+            Ok(()) => self
+                .guard
+                .first_non_finite(s.as_ref(), &self.table)
+                .map(|what| {
+                    crate::solver::SolverError::NonFinite {
+                        what,
+                        cause: format!(
+                            "largest input: {}",
+                            largest_input(&self.table, &self.loads, &self.rates)
+                        ),
+                    }
+                    .to_string()
+                }),
+            // A solver refusal (frame no longer a rotation, budget, singular system) under a
+            // load names that load too: it is usually the cause.
+            Err(e) if self.loads.iter().chain(&self.rates).any(|&x| x != 0.0) => Some(format!(
+                "{e} (largest input: {})",
+                largest_input(&self.table, &self.loads, &self.rates)
+            )),
+            Err(e) => Some(e),
+        };
+        if let Some(e) = bad {
+            // The solver gets the loads and rates again at the next step.
+            let back = self.guard.rollback(s.as_mut());
+            self.loads_dirty = true;
+            self.rates_applied = true;
+            return Err(format!(
+                "step from t = {} with h = {} refused: {e}{}",
+                crate::num::num(t),
+                crate::num::num(h),
+                match back {
+                    Ok(()) => format!("; the FMU keeps its state at t = {}", crate::num::num(t)),
+                    Err(b) => format!("; the state before the step could not be put back: {b}"),
+                }
+            ));
+        }
         let rates_on = self.rates.iter().any(|&r| r != 0.0);
-        if self.loads_dirty || self.rates_applied || rates_on {
-            s.set_loads(&self.loads).map_err(|e| e.to_string())?;
-        }
-        if rates_on || self.rates_applied {
-            s.set_load_rates(&self.rates).map_err(|e| e.to_string())?;
-        }
         self.loads_dirty = false;
         self.rates_applied = rates_on;
-        s.step(h)
-            .map_err(|e| format!("step from t = {t} with h = {h} failed: {e}"))?;
         if rates_on {
             self.rates.iter_mut().for_each(|r| *r = 0.0);
         }
@@ -594,6 +636,26 @@ impl Model {
         }
         Ok(())
     }
+}
+
+/// Pass the loads and rates when they changed (both make the solver re-project the
+/// loads onto the modes) and advance the solver by `h`.
+fn step_solver(
+    s: &mut dyn Solver,
+    h: f64,
+    loads: &[f64],
+    rates: &[f64],
+    loads_dirty: bool,
+    rates_applied: bool,
+) -> Result<(), String> {
+    let rates_on = rates.iter().any(|&r| r != 0.0);
+    if loads_dirty || rates_applied || rates_on {
+        s.set_loads(loads).map_err(|e| e.to_string())?;
+    }
+    if rates_on || rates_applied {
+        s.set_load_rates(rates).map_err(|e| e.to_string())?;
+    }
+    s.step(h).map_err(|e| e.to_string())
 }
 
 /// Refuse a snapshot whose numbers no running model can hold (only reachable with

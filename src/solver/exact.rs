@@ -148,7 +148,10 @@ impl Solver for Exact {
                     self.coef_h[slot] = f64::NAN;
                     return Err(SolverError::Unsupported {
                         method: Method::Exact,
-                        why: format!("a step of {h} s overflows the modal transition"),
+                        why: format!(
+                            "a step of {} s overflows the modal transition (omega h is not finite)",
+                            crate::num::num(h)
+                        ),
                     });
                 }
                 self.next_slot = 1 - slot;
@@ -222,15 +225,22 @@ impl Solver for Exact {
     }
 
     fn state(&self) -> State {
-        let mut data = Vec::with_capacity(self.state_len());
+        let mut s = State {
+            method: Method::Exact,
+            data: Vec::with_capacity(self.state_len()),
+        };
+        self.state_into(&mut s);
+        s
+    }
+
+    fn state_into(&self, out: &mut State) {
+        out.method = Method::Exact;
+        let data = &mut out.data;
+        data.clear();
         data.push(self.time);
-        self.io.save(&mut data);
+        self.io.save(data);
         data.extend(self.y.iter());
         data.extend(self.yd.iter());
-        State {
-            method: Method::Exact,
-            data,
-        }
     }
 
     fn set_state(&mut self, state: &State) -> Result<(), SolverError> {

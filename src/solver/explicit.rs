@@ -36,12 +36,8 @@ use nalgebra::{DMatrix, DVector};
 
 use super::dense::bilinear;
 use super::nodes::{Exposed, check_state};
-use super::{Frame, Method, Options, Solver, SolverError, State};
+use super::{Frame, MAX_INTERNAL_STEPS, Method, Options, Solver, SolverError, State};
 use crate::scene::Scene;
-
-/// Internal steps beyond this count in one call are refused (a step that long is a
-/// caller error, not a simulation).
-const MAX_SUBSTEPS: f64 = 1e9;
 
 /// The sub-cycled central-difference solver.
 #[derive(Debug, Clone)]
@@ -176,13 +172,14 @@ impl Solver for Explicit {
         } else {
             1.0
         };
-        if n > MAX_SUBSTEPS {
-            return Err(SolverError::Unsupported {
-                method: Method::Explicit,
-                why: format!(
-                    "a step of {h} s needs {n:e} internal steps of at most {:e} s (limit {MAX_SUBSTEPS:e})",
-                    self.dt_max
-                ),
+        // Refused before any work: a step that long is a caller error, not a simulation
+        // (h = 1e300 would otherwise loop for ever).
+        if n > MAX_INTERNAL_STEPS {
+            return Err(SolverError::TooManySteps {
+                h,
+                steps: n,
+                internal: self.dt_max,
+                max_h: MAX_INTERNAL_STEPS * self.dt_max,
             });
         }
         let n = n as usize;
@@ -246,17 +243,24 @@ impl Solver for Explicit {
     }
 
     fn state(&self) -> State {
-        let mut data = Vec::with_capacity(self.state_len());
+        let mut s = State {
+            method: Method::Explicit,
+            data: Vec::with_capacity(self.state_len()),
+        };
+        self.state_into(&mut s);
+        s
+    }
+
+    fn state_into(&self, out: &mut State) {
+        out.method = Method::Explicit;
+        let data = &mut out.data;
+        data.clear();
         data.push(self.time);
-        self.io.save(&mut data);
+        self.io.save(data);
         data.push(self.dt1);
         data.extend(self.q.iter());
         data.extend(self.vh.iter());
         data.extend(self.fend.iter());
-        State {
-            method: Method::Explicit,
-            data,
-        }
     }
 
     fn set_state(&mut self, state: &State) -> Result<(), SolverError> {

@@ -253,17 +253,24 @@ impl Solver for Implicit {
     }
 
     fn state(&self) -> State {
-        let mut data = Vec::with_capacity(self.state_len());
+        let mut s = State {
+            method: Method::Implicit,
+            data: Vec::with_capacity(self.state_len()),
+        };
+        self.state_into(&mut s);
+        s
+    }
+
+    fn state_into(&self, out: &mut State) {
+        out.method = Method::Implicit;
+        let data = &mut out.data;
+        data.clear();
         data.push(self.time);
-        self.io.save(&mut data);
+        self.io.save(data);
         data.push(if self.started { 1.0 } else { 0.0 });
         data.extend(self.y.iter());
         data.extend(self.v.iter());
         data.extend(self.a.iter());
-        State {
-            method: Method::Implicit,
-            data,
-        }
     }
 
     fn set_state(&mut self, state: &State) -> Result<(), SolverError> {

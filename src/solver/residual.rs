@@ -180,6 +180,12 @@ impl Solver for Residual {
         s.data.extend_from_slice(&self.rates);
         s
     }
+    fn state_into(&self, out: &mut State) {
+        self.inner.state_into(out);
+        out.data.push(self.t_set);
+        out.data.extend_from_slice(&self.loads);
+        out.data.extend_from_slice(&self.rates);
+    }
     fn set_state(&mut self, state: &State) -> Result<(), SolverError> {
         let tail = 1 + self.loads.len() + self.rates.len();
         if state.data.len() < tail {

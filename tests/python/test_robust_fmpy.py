@@ -1,6 +1,6 @@
 """A careless fmpy master (issue 9): illegal calls, NaN forces, bad steps, outputs set,
 unknown value references, random and truncated serialised states, '%' in the instance
-name, each refusal recovered by reset or setFMUstate, then a run with a state saved,
+name, a finite but huge load and input rate whose step would be non-finite (issue 13), each refusal recovered by reset or setFMUstate, then a run with a state saved,
 serialised and restored on the way. Reference: a clean instance in the same process
 running the same loads, which the misused one must match bit for bit.
 
@@ -42,6 +42,15 @@ def refused(call, *args):
     raise AssertionError(f"{call.__name__}{args!r} was accepted")
 
 
+def huge_step(s, fy, how):
+    """Issue 13: a finite but huge load (or input rate) whose step would be non-finite."""
+    if how == "load":
+        s.setReal([fy], [1.7976931348623157e308])
+    else:
+        s.setRealInputDerivatives([fy], [1], [1e308])
+    s.doStep(0.0, H)
+
+
 def drive(unzipped, steps, seed=1):
     """Run the misused and the clean instance; returns (misuse count, their outputs)."""
     from fmpy import read_model_description
@@ -80,6 +89,8 @@ def drive(unzipped, steps, seed=1):
         (bad.deSerializeFMUstate, (good_bytes[:-1],)),
         (bad.deSerializeFMUstate, (good_bytes[:len(good_bytes) // 2],)),
         (bad.deSerializeFMUstate, (b"FXBSTATE" + bytes(64),)),
+        (huge_step, (bad, fy, "load")),
+        (huge_step, (bad, fy, "rate")),
     ]
     for k in range(0, len(good_bytes), 13):
         flipped = bytearray(good_bytes)
@@ -147,9 +158,9 @@ def test_careless_fmpy_master(cantilever_tip, tmp_path):
                          capture_output=True, text=True, timeout=300)
     assert run.returncode == 0, run.stdout + run.stderr
     assert "bit for bit: True" in run.stdout, run.stdout
-    # Every misuse was refused (the count: 4 illegal calls, 15 listed, 50 random, flips).
-    count = int(run.stdout.split("refused: ")[1].split(";")[0])
-    assert count >= 4 + 15 + 50, run.stdout
+    # Every misuse was refused (the count: 4 illegal calls, 17 listed, 50 random, flips).
+    count = int(run.stdout.split("misuse cases refused: ")[1].split(";")[0])
+    assert count >= 4 + 17 + 50, run.stdout
 
 
 if __name__ == "__main__":
