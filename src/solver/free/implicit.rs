@@ -115,7 +115,7 @@ struct Work {
     small: Vec<f64>,
     /// Local iteration matrix, factored, for the step-size key `lkey`.
     lfac: Lu,
-    lkey: Option<(f64, f64)>,
+    lkey: (f64, f64),
     ykl: Vec<DMatrix<f64>>,
     y: DMatrix<f64>,
     /// `M_C + bt K_C` of the factored matrix, row-major `nr x nl`.
@@ -160,7 +160,7 @@ impl Implicit {
             kkt: Lu::new(nr + nc),
             small: vec![0.0; nr + nc],
             lfac: Lu::new(nl),
-            lkey: None,
+            lkey: super::NO_KEY,
             ykl: vec![DMatrix::zeros(nl, nr); 9],
             y: DMatrix::zeros(nl, nr),
             arl: vec![0.0; nr * nl],

@@ -53,6 +53,13 @@ pub fn coords_from_rigid_modes(body: &Body) -> Vec<[f64; 3]> {
     body.rigid_mode_positions().unwrap_or_default()
 }
 
+/// The key of a factorisation that belongs to no step: NaN never compares equal, so
+/// the first comparison with real step sizes asks for a new factorisation. A plain pair
+/// rather than `Option<(f64, f64)>`: comparing an `Option` that is `None` with `Some(..)`
+/// let the compiler read the uninitialised payload of `None`, which memcheck reported as
+/// an uninitialised-value use once per free implicit step under an fmpy master (issue 13).
+pub(crate) const NO_KEY: (f64, f64) = (f64::NAN, f64::NAN);
+
 /// The six distance constraints: frame points (a, b) (0 = L0, j = Lj) and the target
 /// squared distance.
 pub(crate) const PAIRS: [(usize, usize, f64); 6] = [

@@ -226,10 +226,10 @@ impl Implicit {
         let m = &self.m;
         let w = &mut self.w;
         let (nr, nl, nq, nc) = (m.nr, m.nl, m.nq(), m.nc());
-        if refresh && w.lkey != Some((bt, gt)) {
+        if refresh && w.lkey != (bt, gt) {
             // Invalidate first: a factorisation that fails below must not be taken for
             // the matrix of the old key by a later call.
-            w.lkey = None;
+            w.lkey = super::super::NO_KEY;
             w.lfac.clear();
             for j in 0..nl {
                 for k in 0..nl {
@@ -258,7 +258,7 @@ impl Implicit {
                     }
                 }
             }
-            w.lkey = Some((bt, gt));
+            w.lkey = (bt, gt);
         }
         if refresh {
             // Y = L^-1 M_C^T with M_C = sum P_kl M_C,kl.
