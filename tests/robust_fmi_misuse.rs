@@ -8,6 +8,13 @@
 //! unchanged; the instance reports the Error state and, after fmi2Reset, a full run
 //! equals an undisturbed twin's bit for bit. The state table is written here from the
 //! FMI 2.0 standard and FMI.md, independently of src/fmi/state.rs.
+
+// Raw FFI: this test calls the exported fmi2* functions directly, as a C master does,
+// which is `unsafe`; the workspace denies `unsafe_code` outside the FMI boundary.
+#![allow(unsafe_code)]
+// The table of calls holds one unsafe closure per FMI function under one
+// `// SAFETY (every closure below):` comment, which clippy cannot attribute to them.
+#![allow(clippy::undocumented_unsafe_blocks)]
 #![cfg(all(
     target_os = "linux",
     any(target_arch = "x86_64", target_arch = "aarch64")

@@ -6,6 +6,10 @@
 //! References: every refusal is fmi2Error (NULL for fmi2Instantiate) with the reason
 //! logged through the format "%s"; the model's state byte for byte unchanged; an
 //! undisturbed twin's results, bit for bit, after recovery.
+
+// Raw FFI: this test calls the exported fmi2* functions directly, as a C master does,
+// which is `unsafe`; the workspace denies `unsafe_code` outside the FMI boundary.
+#![allow(unsafe_code)]
 #![cfg(all(
     target_os = "linux",
     any(target_arch = "x86_64", target_arch = "aarch64")
@@ -258,7 +262,7 @@ fn instantiate_refuses_bad_arguments() {
     ];
     let other_guid = raw(b"{00000000-0000-0000-0000-000000000000}");
     let mut cases: Vec<(String, fmi2Component)> = Vec::new();
-    // SAFETY (all calls): every pointer is NULL or a valid C string / callback struct
+    // SAFETY: (all calls) every pointer is NULL or a valid C string / callback struct
     // for the call.
     unsafe {
         let mut try_one = |what: &str,
