@@ -533,3 +533,45 @@ pub fn workspace_binary(name: &str) -> PathBuf {
     );
     path
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_c_logger_formats_printf_style_and_hands_the_text_to_the_log() {
+        let log = Mutex::new(Vec::new());
+        let env = LogEnv { sink, log: &log };
+        let env_ptr = (&env as *const LogEnv).cast_mut().cast();
+        // SAFETY: a valid environment for the call and NUL-terminated strings; the
+        // variadic arguments match the format (%s: char*, %d: int, %.3f: double).
+        unsafe {
+            fxbody_host_logger(
+                env_ptr,
+                c"inst".as_ptr(),
+                fmi2OK,
+                c"logStatusError".as_ptr(),
+                c"%s: %d of %.3f (100%%)".as_ptr(),
+                c"steps".as_ptr(),
+                7 as c_int,
+                2.5f64,
+            );
+        }
+        // A message longer than any fixed buffer comes through whole.
+        let long = c_text(&"x".repeat(5000));
+        // SAFETY: as above; one char* argument for "%s".
+        unsafe {
+            fxbody_host_logger(
+                env_ptr,
+                c"inst".as_ptr(),
+                fmi2OK,
+                c"cat".as_ptr(),
+                c"%s".as_ptr(),
+                long.as_ptr(),
+            );
+        }
+        let l = log.lock().unwrap();
+        assert_eq!(l[0], "[logStatusError] steps: 7 of 2.500 (100%)");
+        assert_eq!(l[1].len(), "[cat] ".len() + 5000);
+    }
+}
