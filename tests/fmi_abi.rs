@@ -1,4 +1,4 @@
-//! The exports driven through `dlopen` by the crate's own host (src/fmi/host.rs): every
+//! The exports driven through `dlopen` by the workspace's FMI importer (crates/host): every
 //! form of resource URI, recovery from the Error state by fmi2SetFMUstate, saved states
 //! from before initialisation, and the logged reasons. References: a second run of the
 //! same FMU, which must match bit for bit.
