@@ -391,3 +391,86 @@ fn instantiate_refuses_bad_arguments() {
         cases.len()
     );
 }
+
+/// Issue 13: fmi2SetFMUstate (and the other handle functions) refuse a state handle made
+/// by an instance of another FMU, naming both GUIDs, before touching anything. Two FMUs
+/// (the same body packed under two names: two GUIDs, two library files) loaded with
+/// `dlopen` in one process, as a master holding both would. Reference: the twin's
+/// results, bit for bit, after recovery by the instance's own saved state.
+#[test]
+fn a_state_of_another_fmu_is_refused() {
+    use fxbody_host::FmuLibrary;
+    let a = packed("guid_a");
+    let b = robust_common::packed_as("guid_b", "other");
+    assert_ne!(a.p.guid, b.p.guid);
+    assert_ne!(a.so, b.so);
+    let twin = reference(&a);
+    let lib_a = FmuLibrary::open(&a.so).unwrap();
+    let lib_b = FmuLibrary::open(&b.so).unwrap();
+    fn start<'l>(lib: &'l FmuLibrary, fx: &robust_common::Packed) -> fxbody_host::Instance<'l> {
+        let i = lib.instantiate("guid", &fx.p.guid, &fx.uri, false).unwrap();
+        i.setup(0.0, None).unwrap();
+        i.enter_init().unwrap();
+        i.exit_init().unwrap();
+        i
+    }
+    let steps = |i: &fxbody_host::Instance, fx: &robust_common::Packed, k0, n| {
+        let (f, y) = (fx.vr("node_121.fy"), fx.vr("node_121.y"));
+        let mut o = [0.0];
+        (k0..k0 + n)
+            .map(|k| {
+                let t = k as f64 * H;
+                i.set_real(&[f], &[robust_common::load(t)]).unwrap();
+                i.do_step(t, H).unwrap();
+                i.get_real(&[y], &mut o).unwrap();
+                o[0]
+            })
+            .collect::<Vec<f64>>()
+    };
+    let ia = start(&lib_a, &a);
+    let ib = start(&lib_b, &b);
+    assert!(same_bits(&steps(&ia, &a, 0, BEFORE), &twin[..BEFORE]));
+    assert!(same_bits(&steps(&ib, &b, 0, BEFORE), &twin[..BEFORE]));
+    let sa = ia.get_state().unwrap();
+    let sb = ib.get_state().unwrap();
+    let mut n = 0;
+    // SetFMUstate, Serialize and FreeFMUstate of A's handle on B: refused, both GUIDs
+    // named; B's own state still restores and continues like the twin.
+    for (what, r) in [
+        ("fmi2SetFMUstate", ib.set_state(&sa).map(|_| ())),
+        ("fmi2SerializedFMUstateSize", ib.serialize(&sa).map(|_| ())),
+    ] {
+        let e = r.unwrap_err();
+        assert!(e.contains(what), "{e}");
+        assert!(
+            e.contains(&a.p.guid) && e.contains(&b.p.guid),
+            "{what}: {e}"
+        );
+        ib.set_state(&sb).unwrap();
+        assert!(same_bits(&steps(&ib, &b, BEFORE, AFTER), &twin[BEFORE..]));
+        ib.set_state(&sb).unwrap();
+        n += 1;
+    }
+    // A's handle still works in A (it was not freed or changed by B).
+    ia.set_state(&sa).unwrap();
+    assert!(same_bits(&steps(&ia, &a, BEFORE, AFTER), &twin[BEFORE..]));
+    let e = ib.free_state(sa).unwrap_err();
+    assert!(e.contains(&a.p.guid), "{e}");
+    n += 1;
+    ib.free_state(sb).unwrap();
+    // (A's handle leaks here: B refused to free it and the host's SavedState was moved.)
+
+    // A pointer that is no fxbody handle at all (64 zero bytes) is refused unread
+    // beyond its first 8 bytes.
+    let s = Slave::started(&a, None);
+    let fake = Box::new([0u64; 8]);
+    let st = s.set_state((&*fake as *const [u64; 8]).cast_mut().cast());
+    assert_eq!(st, fmi2Error);
+    assert!(
+        s.last_error().contains("not made by an fxbody FMU"),
+        "{}",
+        s.last_error()
+    );
+    n += 1;
+    println!("foreign state handles refused: {n} cases");
+}

@@ -128,6 +128,7 @@ pub unsafe extern "C" fn fmi2Instantiate(
                 loggingOn != fmi2False,
             ),
             state: FmiState::Instantiated,
+            before_error: FmiState::Instantiated,
             model,
         }))
     }));

@@ -1,16 +1,148 @@
 //! The FMU-state exports: get, set, free, serialise and deserialise a complete
 //! snapshot (solver state, inputs, time, FMI phase). A state handle is a boxed
-//! [`Snapshot`] owned by the master until fmi2FreeFMUstate.
+//! [`Handle`]: a fixed-layout [`Header`] (magic number, layout tag, the GUID of the FMU
+//! whose instance made it), then the [`Snapshot`]. Every function that receives a handle
+//! checks the header first and refuses, naming both GUIDs, a handle made by an instance
+//! of another FMU, before touching anything else.
+//!
+//! Residual risk: FMI handles are untyped pointers, so a handle from a library that is
+//! not fxbody can only be recognised by reading its first 8 bytes (the magic number).
+//! That read is sound for any live heap object of 8 bytes or more, which every FMU state
+//! known to us is; a smaller or freed object, or a pointer that is not one at all, is
+//! undefined behaviour the C ABI gives no way to detect. The rest of the header is read
+//! only after the magic number matched, and the snapshot only after the layout tag (crate
+//! version and sizes) and the GUID matched: that is, only a handle made by this same
+//! build for this same FMU.
 
 #![allow(non_snake_case, clippy::missing_safety_doc)]
 
 use super::instance::*;
 use super::state::{self, FmiState};
 use super::types::*;
+use crate::fmu::hash::{FNV_OFFSET, fnv1a64};
 use crate::fmu::snapshot::Snapshot;
 
+/// "FXBSTHDL" read as a little-endian u64: the first 8 bytes of every handle made here.
+const MAGIC: u64 = u64::from_le_bytes(*b"FXBSTHDL");
+/// How many bytes of the GUID a header keeps for messages (the full GUID is compared by
+/// length and hash).
+const GUID_TEXT: usize = 60;
+
+/// The fixed-layout start of a state handle: readable by any fxbody build, whatever the
+/// layout of what follows.
+#[repr(C)]
+#[derive(Clone, Copy)]
+pub struct Header {
+    magic: u64,
+    /// [`layout_tag`] of the build that made the handle.
+    layout: u64,
+    /// FNV-1a 64 of the GUID of the FMU whose instance made the handle.
+    guid_hash: u64,
+    guid_len: u32,
+    guid_text: [u8; GUID_TEXT],
+}
+
+/// A state handle: header, then the snapshot.
+#[repr(C)]
+pub struct Handle {
+    header: Header,
+    snap: Snapshot,
+}
+
+/// A tag of this build's handle layout: crate version, sizes and alignments of the
+/// handle and snapshot. Handles of builds with another tag are refused unread.
+fn layout_tag() -> u64 {
+    let mut h = fnv1a64(FNV_OFFSET, env!("CARGO_PKG_VERSION").as_bytes());
+    for n in [
+        std::mem::size_of::<Handle>(),
+        std::mem::align_of::<Handle>(),
+        std::mem::size_of::<Snapshot>(),
+    ] {
+        h = fnv1a64(h, &(n as u64).to_le_bytes());
+    }
+    h
+}
+
+fn header_for(guid: &str) -> Header {
+    let mut guid_text = [0u8; GUID_TEXT];
+    let n = guid.len().min(GUID_TEXT);
+    guid_text[..n].copy_from_slice(&guid.as_bytes()[..n]);
+    Header {
+        magic: MAGIC,
+        layout: layout_tag(),
+        guid_hash: fnv1a64(FNV_OFFSET, guid.as_bytes()),
+        guid_len: u32::try_from(guid.len()).unwrap_or(u32::MAX),
+        guid_text,
+    }
+}
+
+impl Header {
+    fn guid(&self) -> String {
+        let n = (self.guid_len as usize).min(GUID_TEXT);
+        let text = String::from_utf8_lossy(&self.guid_text[..n]).into_owned();
+        if self.guid_len as usize > GUID_TEXT {
+            format!("{text}...")
+        } else {
+            text
+        }
+    }
+}
+
+/// The handle behind `s`, if it is a live handle made by this build for the FMU with
+/// `guid`; otherwise a message naming what it is.
+///
+/// # Safety
+/// `s` is NULL or points to a live object of at least 8 bytes (FMI: a state handle
+/// returned by some FMU and not yet freed).
+unsafe fn handle<'a>(s: fmi2FMUstate, guid: &str) -> Result<&'a mut Handle, String> {
+    if s.is_null() {
+        return Err("FMUstate is NULL".into());
+    }
+    if s.cast::<Header>()
+        .align_offset(std::mem::align_of::<Header>())
+        != 0
+    {
+        return Err("FMUstate was not made by an fxbody FMU (misaligned handle)".into());
+    }
+    // SAFETY: non-null, aligned, and by the caller's contract at least 8 live bytes.
+    let magic = unsafe { s.cast::<u64>().read() };
+    if magic != MAGIC {
+        return Err(
+            "FMUstate was not made by an fxbody FMU (no fxbody state header): a state \
+             belongs to the FMU whose instance made it"
+                .into(),
+        );
+    }
+    // SAFETY: the magic number says this is a handle of some fxbody build, all of which
+    // start with this fixed-layout (repr(C)) header; it is copied out, not referenced.
+    let head = unsafe { s.cast::<Header>().read() };
+    if head.layout != layout_tag() {
+        return Err(format!(
+            "FMUstate was made by another fxbody build (layout tag {:016x}, this build \
+             {:016x}) for GUID {}; this instance is {guid}",
+            head.layout,
+            layout_tag(),
+            head.guid()
+        ));
+    }
+    let mine = header_for(guid);
+    if head.guid_hash != mine.guid_hash || head.guid_len != mine.guid_len {
+        return Err(format!(
+            "FMUstate belongs to the FMU with GUID {}, this instance is GUID {guid}: a \
+             state can only be restored into an instance of the FMU that made it",
+            head.guid()
+        ));
+    }
+    // SAFETY: header, layout tag and GUID match: `s` is a Box<Handle> this build made
+    // for this FMU (from fmi2GetFMUstate or fmi2DeSerializeFMUstate), not yet freed; FMI
+    // forbids concurrent calls, so no other reference to it is in use.
+    Ok(unsafe { &mut *s.cast::<Handle>() })
+}
+
 fn snapshot_of(inst: &Instance) -> Snapshot {
-    inst.model.snapshot(inst.state.code())
+    // In Error the model holds the state before the error: record that one, so that a
+    // state saved in Error restores to a legal state.
+    inst.model.snapshot(inst.phase().code())
 }
 
 /// Save the complete state (solver, inputs, time, FMI phase). A non-NULL `*state`
@@ -26,35 +158,31 @@ pub unsafe extern "C" fn fmi2GetFMUstate(c: fmi2Component, state: *mut fmi2FMUst
             return Err("FMUstate pointer is NULL".into());
         }
         let snap = snapshot_of(inst);
-        store_state(state, snap);
-        Ok(fmi2OK)
+        // SAFETY: non-null and writable (FMI contract).
+        unsafe { store_state(state, snap, &inst.model.guid) }
     })
 }
 
-/// Write `snap` into `*state`, reusing an existing allocation.
-fn store_state(state: *mut fmi2FMUstate, snap: Snapshot) {
-    // SAFETY: `state` is non-null and writable (checked by the callers); a non-null
-    // `*state` is a Box<Snapshot> this library created (FMI contract: states are only
-    // passed back to the library that made them).
-    unsafe {
-        if (*state).is_null() {
-            *state = Box::into_raw(Box::new(snap)).cast();
-        } else {
-            *(*state).cast::<Snapshot>() = snap;
-        }
-    }
-}
-
-/// Borrow the snapshot behind a state handle.
+/// Write `snap` into `*state`: a new handle for NULL, else the existing handle (checked
+/// to be this FMU's) overwritten in place.
 ///
 /// # Safety
-/// `s` is NULL or a live state from fmi2GetFMUstate / fmi2DeSerializeFMUstate.
-unsafe fn snapshot_ref<'a>(s: fmi2FMUstate) -> Result<&'a Snapshot, String> {
-    if s.is_null() {
-        return Err("FMUstate is NULL".into());
+/// `state` is non-null and writable; `*state` is NULL or a live state handle.
+unsafe fn store_state(state: *mut fmi2FMUstate, snap: Snapshot, guid: &str) -> Outcome {
+    // SAFETY: `state` is non-null and writable (caller's contract).
+    let old = unsafe { *state };
+    if old.is_null() {
+        let h = Box::new(Handle {
+            header: header_for(guid),
+            snap,
+        });
+        // SAFETY: as above.
+        unsafe { *state = Box::into_raw(h).cast() };
+    } else {
+        // SAFETY: a non-null `*state` is a live handle (caller's contract); checked.
+        unsafe { handle(old, guid) }?.snap = snap;
     }
-    // SAFETY: non-null states are Box<Snapshot> created by this library, not yet freed.
-    Ok(unsafe { &*s.cast::<Snapshot>() })
+    Ok(fmi2OK)
 }
 
 fn restore(inst: &mut Instance, snap: &Snapshot) -> Outcome {
@@ -72,8 +200,8 @@ fn restore(inst: &mut Instance, snap: &Snapshot) -> Outcome {
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2SetFMUstate(c: fmi2Component, state: fmi2FMUstate) -> fmi2Status {
     enter(c, "fmi2SetFMUstate", state::SET_FMU_STATE, |inst| {
-        // SAFETY: `state` is a live state (FMI contract).
-        let snap = unsafe { snapshot_ref(state) }?.clone();
+        // SAFETY: `state` is a live state (FMI contract); its header is checked first.
+        let snap = unsafe { handle(state, &inst.model.guid) }?.snap.clone();
         restore(inst, &snap)
     })
 }
@@ -87,16 +215,21 @@ pub unsafe extern "C" fn fmi2FreeFMUstate(
     c: fmi2Component,
     state: *mut fmi2FMUstate,
 ) -> fmi2Status {
-    enter(c, "fmi2FreeFMUstate", state::SET_FMU_STATE, |_| {
+    enter(c, "fmi2FreeFMUstate", state::SET_FMU_STATE, |inst| {
         if state.is_null() {
             return Ok(fmi2OK);
         }
-        // SAFETY: `state` is writable; a non-null `*state` is a Box<Snapshot> made here.
+        // SAFETY: `state` is writable (FMI contract).
+        let s = unsafe { *state };
+        if s.is_null() {
+            return Ok(fmi2OK);
+        }
+        // SAFETY: a live handle (FMI contract); checked to be this build's for this FMU,
+        // so it is a Box<Handle> made here, freed once as `*state` is then cleared.
         unsafe {
-            if !(*state).is_null() {
-                drop(Box::from_raw((*state).cast::<Snapshot>()));
-                *state = std::ptr::null_mut();
-            }
+            let h: *mut Handle = handle(s, &inst.model.guid)?;
+            drop(Box::from_raw(h));
+            *state = std::ptr::null_mut();
         }
         Ok(fmi2OK)
     })
@@ -117,8 +250,8 @@ pub unsafe extern "C" fn fmi2SerializedFMUstateSize(
         "fmi2SerializedFMUstateSize",
         state::GET_FMU_STATE,
         |inst| {
-            // SAFETY: `state` is a live state.
-            let snap = unsafe { snapshot_ref(state) }?;
+            // SAFETY: `state` is a live state; its header is checked first.
+            let snap = &unsafe { handle(state, &inst.model.guid) }?.snap;
             if size.is_null() {
                 return Err("size pointer is NULL".into());
             }
@@ -143,8 +276,8 @@ pub unsafe extern "C" fn fmi2SerializeFMUstate(
     size: usize,
 ) -> fmi2Status {
     enter(c, "fmi2SerializeFMUstate", state::GET_FMU_STATE, |inst| {
-        // SAFETY: `state` is a live state.
-        let snap = unsafe { snapshot_ref(state) }?;
+        // SAFETY: `state` is a live state; its header is checked first.
+        let snap = &unsafe { handle(state, &inst.model.guid) }?.snap;
         let bytes = snap.to_bytes(&inst.model.guid);
         if size != bytes.len() {
             return Err(format!(
@@ -181,7 +314,7 @@ pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
         if snap.loads.len() != 6 * inst.model.scene().nodes.len() {
             return Err("serialized state has a different number of inputs than this FMU".into());
         }
-        store_state(state, snap);
-        Ok(fmi2OK)
+        // SAFETY: `state` is non-null and writable, `*state` NULL or live (FMI contract).
+        unsafe { store_state(state, snap, &inst.model.guid) }
     })
 }

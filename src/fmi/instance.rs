@@ -99,8 +99,33 @@ pub struct Instance {
     pub log: Log,
     /// FMI state.
     pub state: FmiState,
+    /// The state the instance was in when it last entered the Error state. In Error the
+    /// model holds that state's values (a failed call changes nothing), so a read or a
+    /// save in Error answers as that state would, and a state saved in Error restores to
+    /// it (never to Error).
+    pub before_error: FmiState,
     /// The model.
     pub model: Model,
+}
+
+impl Instance {
+    /// The state the model's values belong to: the current state, or in Error the
+    /// state before the error.
+    pub fn phase(&self) -> FmiState {
+        if self.state == FmiState::Error {
+            self.before_error
+        } else {
+            self.state
+        }
+    }
+
+    /// Enter the Error state, remembering the state left.
+    pub fn fail(&mut self) {
+        if !matches!(self.state, FmiState::Error | FmiState::Fatal) {
+            self.before_error = self.state;
+            self.state = FmiState::Error;
+        }
+    }
 }
 
 /// What an export's body returns: a status to pass on (OK, Warning, Discard), or an
@@ -108,7 +133,8 @@ pub struct Instance {
 pub type Outcome = Result<fmi2Status, String>;
 
 /// Run an export's body on the instance behind `c`: refuse NULL, check the call is legal
-/// in the current state (`mask`), catch panics (fmi2Fatal), log errors.
+/// in the current state (`mask`; in Error, also in the state before the error, whose
+/// values the model holds), catch panics (fmi2Fatal), log errors.
 pub fn enter(
     c: fmi2Component,
     func: &str,
@@ -127,9 +153,16 @@ pub fn enter(
         if mask & inst.state.bit() == 0 {
             let msg = format!("{func}: illegal call in state {:?}", inst.state);
             inst.log.send(fmi2Error, LOG_ERROR, &msg);
-            if inst.state != FmiState::Fatal {
-                inst.state = FmiState::Error;
-            }
+            inst.fail();
+            return fmi2Error;
+        }
+        if mask & inst.phase().bit() == 0 {
+            let msg = format!(
+                "{func}: illegal call in state Error entered from state {:?}, where the \
+                 call is not allowed (the model holds that state's values)",
+                inst.before_error
+            );
+            inst.log.send(fmi2Error, LOG_ERROR, &msg);
             return fmi2Error;
         }
         if inst.log.on(LOG_CALLS) {
@@ -144,7 +177,7 @@ pub fn enter(
         Ok(Err(msg)) => {
             inst.log
                 .send(fmi2Error, LOG_ERROR, &format!("{func}: {msg}"));
-            inst.state = FmiState::Error;
+            inst.fail();
             fmi2Error
         }
         Err(panic) => {
@@ -233,6 +266,7 @@ mod tests {
         Box::new(Instance {
             log: Log::new(&callbacks, "t", false),
             state: FmiState::Instantiated,
+            before_error: FmiState::Instantiated,
             model: Model::new(scene, "{g}".into()),
         })
     }

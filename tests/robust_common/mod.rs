@@ -63,6 +63,15 @@ impl Drop for Packed {
 /// Pack the cantilever with its tip node 121 exposed and unpack it under a temporary
 /// folder named after `tag`.
 pub fn packed(tag: &str) -> Packed {
+    packed_named(tag, None)
+}
+
+/// As [`packed`], under the model name `name`: another GUID and another library file.
+pub fn packed_as(tag: &str, name: &str) -> Packed {
+    packed_named(tag, Some(name))
+}
+
+fn packed_named(tag: &str, name: Option<&str>) -> Packed {
     let dir = std::env::temp_dir().join(format!("fxbody_robust_{tag}_{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let lib = find_library(None).expect("libfxbody.so next to the test executable");
@@ -71,6 +80,7 @@ pub fn packed(tag: &str) -> Packed {
         body: root().join("fixtures/cantilever.fxb"),
         coords: Some(root().join("fixtures/cantilever.nodes.rad")),
         nodes: Some(vec![121]),
+        name: name.map(str::to_string),
         ..PackRequest::default()
     };
     let p = pack(&req, &lib, &fmu).unwrap();
@@ -80,7 +90,10 @@ pub fn packed(tag: &str) -> Packed {
         std::fs::write(path, data).unwrap();
     }
     let uri = fxbody_host::file_uri(&dir.join("resources"));
-    let so = dir.join("binaries/linux64/cantilever.so");
+    let so = dir.join(format!(
+        "binaries/linux64/{}.so",
+        name.unwrap_or("cantilever")
+    ));
     Packed { p, dir, uri, so }
 }
 
