@@ -6,7 +6,7 @@
  * once, everything freed, the library unloaded. Exit 0 when every check held; prints
  * the number of checks and the final output.
  *
- * usage: robust_driver LIB RESOURCE_URI GUID VR_IN VR_OUT STEPS
+ * usage: robust_driver LIB RESOURCE_URI GUID VR_IN VR_OUT STEPS [METHOD_VR METHOD]
  */
 #include <dlfcn.h>
 #include <math.h>
@@ -47,7 +47,7 @@ static unsigned long long next_rand(void) {
 }
 
 int main(int argc, char **argv) {
-    if (argc < 7) { fprintf(stderr, "usage: %s LIB URI GUID VR_IN VR_OUT STEPS\n", argv[0]); return 1; }
+    if (argc < 7) { fprintf(stderr, "usage: %s LIB URI GUID VR_IN VR_OUT STEPS [METHOD_VR METHOD]\n", argv[0]); return 1; }
     if (getenv("ROBUST_VERBOSE")) quiet = 0;
     void *lib = dlopen(argv[1], RTLD_NOW | RTLD_LOCAL);
     if (!lib) { fprintf(stderr, "dlopen: %s\n", dlerror()); return 2; }
@@ -119,6 +119,13 @@ int main(int argc, char **argv) {
     EXPECT(set_debug(c, 1, 1, cats) == fmi2Error); EXPECT(reset(c) == fmi2OK);
     EXPECT(set_debug(c, 1, 2, cats) == fmi2Error); EXPECT(reset(c) == fmi2OK);
 
+    /* Optional METHOD_VR METHOD: choose the integration method of both instances. */
+    if (argc >= 9) {
+        fmi2ValueReference mvr = (fmi2ValueReference)atoi(argv[7]);
+        fmi2Integer method = atoi(argv[8]);
+        EXPECT(set_integer(c, &mvr, 1, &method) == fmi2OK);
+        EXPECT(set_integer(q, &mvr, 1, &method) == fmi2OK);
+    }
     EXPECT(setup(c, 0, 0, 0, 0, 0) == fmi2OK);
     EXPECT(enter(c) == fmi2OK);
     EXPECT(exit_(c) == fmi2OK);

@@ -63,24 +63,32 @@ impl Drop for Packed {
 /// Pack the cantilever with its tip node 121 exposed and unpack it under a temporary
 /// folder named after `tag`.
 pub fn packed(tag: &str) -> Packed {
-    packed_named(tag, None)
+    packed_full(tag, "cantilever", 121, None)
 }
 
 /// As [`packed`], under the model name `name`: another GUID and another library file.
 pub fn packed_as(tag: &str, name: &str) -> Packed {
-    packed_named(tag, Some(name))
+    packed_full(tag, "cantilever", 121, Some(name))
 }
 
-fn packed_named(tag: &str, name: Option<&str>) -> Packed {
+/// Pack a fixture body (`fixtures/NAME.fxb` with its node deck) with one node exposed
+/// and unpack it under a temporary folder named after `tag`.
+pub fn packed_body(tag: &str, name: &str, node: i64) -> Packed {
+    packed_full(tag, name, node, None)
+}
+
+/// Pack `fixtures/BODY.fxb` with `node` exposed, under the model name `model` (default:
+/// the body's name), and unpack it under a temporary folder named after `tag`.
+fn packed_full(tag: &str, body: &str, node: i64, model: Option<&str>) -> Packed {
     let dir = std::env::temp_dir().join(format!("fxbody_robust_{tag}_{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let lib = find_library(None).expect("libfxbody.so next to the test executable");
     let fmu = dir.join("tip.fmu");
     let req = PackRequest {
-        body: root().join("fixtures/cantilever.fxb"),
-        coords: Some(root().join("fixtures/cantilever.nodes.rad")),
-        nodes: Some(vec![121]),
-        name: name.map(str::to_string),
+        body: root().join(format!("fixtures/{body}.fxb")),
+        coords: Some(root().join(format!("fixtures/{body}.nodes.rad"))),
+        nodes: Some(vec![node]),
+        name: model.map(str::to_string),
         ..PackRequest::default()
     };
     let p = pack(&req, &lib, &fmu).unwrap();
@@ -90,10 +98,7 @@ fn packed_named(tag: &str, name: Option<&str>) -> Packed {
         std::fs::write(path, data).unwrap();
     }
     let uri = fxbody_host::file_uri(&dir.join("resources"));
-    let so = dir.join(format!(
-        "binaries/linux64/{}.so",
-        name.unwrap_or("cantilever")
-    ));
+    let so = dir.join(format!("binaries/linux64/{}.so", model.unwrap_or(body)));
     Packed { p, dir, uri, so }
 }
 

@@ -36,6 +36,10 @@ pub struct StudyArgs {
     /// smoke test).
     #[arg(long)]
     pub quick: bool,
+    /// Run only the spin-rate stability study of the explicit free-body method and
+    /// write `spin.csv` (the other outputs are left as they are).
+    #[arg(long)]
+    pub spin_only: bool,
 }
 
 /// One CSV row.
@@ -262,6 +266,9 @@ pub fn run(args: &StudyArgs) -> Result<(), String> {
     let start = Instant::now();
     std::fs::create_dir_all(&args.out)
         .map_err(|e| format!("{}: cannot create: {e}", args.out.display()))?;
+    if args.spin_only {
+        return spin_map(args);
+    }
     let vs = variants();
     let mut cases = build_cases(args)?;
     let mut notes = String::new();
@@ -397,6 +404,8 @@ pub fn run(args: &StudyArgs) -> Result<(), String> {
         }
     }
     write(&args.out.join("stability.csv"), &stab)?;
+    // The spin-rate part of the map (explicit free bodies): spin.csv.
+    spin_map(args)?;
 
     // The physical limit.
     eprintln!("dense-product bound");
@@ -575,4 +584,51 @@ pub fn run(args: &StudyArgs) -> Result<(), String> {
 
 fn write(path: &std::path::Path, text: &str) -> Result<(), String> {
     std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// The spin-rate stability map of the explicit free-body method (`spin.csv`): for each
+/// free fixture and rotation per step on the grid, the largest frame error and the
+/// energy change of a free spin (stability.rs, `spin`).
+fn spin_map(args: &StudyArgs) -> Result<(), String> {
+    use stability::spin;
+    let steps = if args.quick { 200 } else { spin::SPIN_STEPS };
+    let mut csv = String::from(
+        "body,axis,dt_fx_s,h_s,omega_rad_s,omega_h,max_frame_error,energy_change,passes\n",
+    );
+    for (name, axis_name) in [
+        ("freefree", "e3"),
+        ("freefree", "e1"),
+        ("freefree", "tumble"),
+        ("truss", "e3"),
+        ("truss", "tumble"),
+    ] {
+        let (scene, _) = fixture(&args.fixtures, name)?;
+        let dt = stability::dt_fx(&scene);
+        let p0 = scene.body.p0;
+        let axis = match axis_name {
+            "e1" => [p0[(0, 0)], p0[(1, 0)], p0[(2, 0)]],
+            "e3" => [p0[(0, 2)], p0[(1, 2)], p0[(2, 2)]],
+            _ => spin::TUMBLE,
+        };
+        for r in spin::grid() {
+            let t = spin::trial(&scene, axis, r, steps);
+            eprintln!(
+                "  spin {name:<9} {axis_name:<6} omega h = {r:<6} omega = {:.4e} frame error {:.3e} energy {:+.3e} {}",
+                t.omega,
+                t.frame_error,
+                t.energy_change,
+                if t.passes() { "pass" } else { "FAIL" }
+            );
+            let _ = writeln!(
+                csv,
+                "{name},{axis_name},{dt:.6e},{:.6e},{:.6e},{r},{:.3e},{:.3e},{}",
+                spin::SPIN_H_OVER_DT_FX * dt,
+                t.omega,
+                t.frame_error,
+                t.energy_change,
+                t.passes()
+            );
+        }
+    }
+    write(&args.out.join("spin.csv"), &csv)
 }

@@ -40,33 +40,21 @@
 //! increment (error about `omega dt / 2`, measured 2e-3 on a test tumble), while with the
 //! mid-step frame the pair entries average out and the rate is second-order accurate.
 
+mod accel;
+
 use std::cell::RefCell;
 
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 
 use super::lu::Lu;
 use super::{
-    Loads, Model, PAIRS, SINGULAR_RATIO, edge, omega_matrix, point_offset, point_vec,
-    singular_error,
+    Loads, MAX_FRAME_ERROR, Model, SPIN_STEP, frame_error, frame_invalid, frame_omega, point_vec,
+    spin_warning,
 };
 use crate::body::stable_step;
 use crate::scene::Scene;
 use crate::solver::nodes::check_state;
-use crate::solver::{Frame, Method, Options, Solver, SolverError, State};
-
-/// Mid-step frame of the Irot = 1 rows, predicted with the old half-step velocities:
-/// `R = P^n + dt2/2 [v_Lj - v_L0]^(n-1/2)`.
-fn mid_frame(p: &Matrix3<f64>, v: &[f64], dt2: f64) -> Matrix3<f64> {
-    let mut pm = *p;
-    let v0 = point_vec(v, 0);
-    for j in 0..3 {
-        let de = (point_vec(v, j + 1) - v0) * (dt2 / 2.0);
-        for c in 0..3 {
-            pm[(c, j)] += de[c];
-        }
-    }
-    pm
-}
+use crate::solver::{Frame, MAX_INTERNAL_STEPS, Method, Options, Solver, SolverError, State};
 
 /// The explicit central-difference solver for a free body.
 #[derive(Debug, Clone)]
@@ -90,6 +78,16 @@ pub struct Explicit {
     /// Synchronised coordinate velocities, filled on demand by the output getters
     /// (which take `&self` and must not allocate).
     v_out: RefCell<DVector<f64>>,
+    /// The state before the current step, restored when the step fails (preallocated).
+    backup: State,
+    /// The spin-rate warning was raised (once per solver).
+    warned: bool,
+    /// A warning of the last step, not yet taken.
+    warning: Option<String>,
+    /// Largest rotation per internal step (`SPIN_STEP` unless changed).
+    spin_step: f64,
+    /// Largest `|P^T P - I|` a step may leave (`MAX_FRAME_ERROR` unless changed).
+    frame_tol: f64,
 }
 
 /// Preallocated storage for one acceleration evaluation.
@@ -152,9 +150,27 @@ impl Explicit {
             jump: false,
             w,
             v_out: RefCell::new(DVector::zeros(nq)),
+            backup: State {
+                method: Method::Explicit,
+                data: Vec::new(),
+            },
+            warned: false,
+            warning: None,
+            spin_step: SPIN_STEP,
+            frame_tol: MAX_FRAME_ERROR,
         };
         s.evaluate_outputs()?;
+        s.backup.data.reserve(s.state_len());
         Ok(s)
+    }
+
+    /// Change the two spin-related limits: the largest rotation per internal step and
+    /// the largest `|P^T P - I|` a step may leave (infinite: no limit, no check). For
+    /// the spin-rate study, which measures the scheme beyond them, and for checks of the
+    /// raw scheme's arithmetic at deliberately large steps; the product never calls it.
+    pub fn set_spin_limits(&mut self, spin_step: f64, frame_tol: f64) {
+        self.spin_step = spin_step;
+        self.frame_tol = frame_tol;
     }
 
     /// Stable step `dt_fx` of the body (before the `dt_factor`).
@@ -162,203 +178,42 @@ impl Explicit {
         self.dt_fx
     }
 
-    /// Internal step used for a communication step `h`: the equal split of h at or
-    /// below `dt_factor x dt_fx` (h itself without sub-cycling).
-    pub fn internal_step(&self, h: f64) -> (usize, f64) {
-        let dmax = self.opts.dt_factor * self.dt_fx;
+    /// Internal step used for a communication step `h` from the current state: the
+    /// equal split of h at or below [`Explicit::step_limit`] (h itself without
+    /// sub-cycling). The count is a float: for an absurd h it does not fit an integer.
+    pub fn internal_step(&self, h: f64) -> (f64, f64) {
+        let dmax = self.step_limit();
         let n = if self.opts.subcycle && dmax.is_finite() && dmax > 0.0 {
-            ((h / dmax).ceil() as usize).max(1)
+            (h / dmax).ceil().max(1.0)
         } else {
-            1
+            1.0
         };
-        (n, h / n as f64)
+        (n, h / n)
+    }
+
+    /// Largest internal step at the current state: `dt_factor x dt_fx`, and
+    /// `SPIN_STEP / |omega|` with the frame's spin rate `omega` (from the half-step
+    /// velocities): the frame update turns the edges by `|omega| dt` per step, and its
+    /// error grows with that angle (docs/STUDY.md, spin-rate stability).
+    pub fn step_limit(&self) -> f64 {
+        let dmax = self.opts.dt_factor * self.dt_fx;
+        let spin = self.spin_rate();
+        if spin > 0.0 {
+            dmax.min(self.spin_step / spin)
+        } else {
+            dmax
+        }
+    }
+
+    /// Spin rate `|omega|` of the frame from the half-step velocities (rad/s).
+    fn spin_rate(&self) -> f64 {
+        frame_omega(&self.p, self.v.as_slice()).norm()
     }
 
     /// Raw state for checks: positions `q^n`, half-step velocities `v^(n-1/2)` and the
     /// frame `P^n`.
     pub fn raw(&self) -> (&DVector<f64>, &DVector<f64>, &Matrix3<f64>) {
         (&self.q, &self.v, &self.p)
-    }
-
-    /// The accelerations of the current positions (steps 2 to 6 of the reference
-    /// scheme), for a previous step `dt1` and a next step `dt2`; result in `self.w.a`.
-    ///
-    /// The saddle-point matrix, M_C, K_C and MVN depend on the state (q, v, P) and the
-    /// steps only, not on the loads. They are kept with the key `(dt1, dt2)` until the
-    /// state changes, so the evaluation for the synchronised outputs at the end of a
-    /// communication step and the first internal step of the next one (same state, and
-    /// the same steps when h does not change) share one factorisation; only the
-    /// load-dependent right side is rebuilt. The numbers are those of a fresh
-    /// evaluation, bit for bit.
-    fn accelerations(&mut self, t: f64, dt1: f64, dt2: f64) -> Result<(), SolverError> {
-        if self.w.key != Some((dt1, dt2)) {
-            self.w.key = None;
-            self.factor_matrix(dt1, dt2)?;
-            self.w.key = Some((dt1, dt2));
-        } else if self.w.a_valid
-            && (0..self.w.loads_at.len()).all(|i| self.loads.at(i, t) == self.w.loads_at[i])
-        {
-            // Same state, steps and loads as the last evaluation: `w.a` is the answer.
-            return Ok(());
-        }
-        self.w.a_valid = false;
-        for (i, l) in self.w.loads_at.iter_mut().enumerate() {
-            *l = self.loads.at(i, t);
-        }
-        let m = &self.m;
-        let w = &mut self.w;
-        let (nr, nl) = (m.nr, m.nl);
-        let p = &self.p;
-        // Step 2: loads with the current frame.
-        m.project_loads(&self.loads, t, p, &mut w.f_r, &mut w.f_l);
-        // Step 3: S_L, S_R.
-        let alpha = self.q.rows(nr, nl);
-        let vl = self.v.rows(nr, nl);
-        w.s_l.copy_from(&w.f_l);
-        m.add_gravity_local(&w.mc, &mut w.s_l);
-        w.s_l.gemv(-1.0, &m.k_l, &alpha, 1.0);
-        if m.ray_b != 0.0 {
-            w.s_l.gemv(-m.ray_b, &m.k_l, &vl, 1.0);
-        }
-        for j in 0..nl {
-            w.s_l[j] -= m.ray_a * m.m_l[j] * vl[j];
-        }
-        w.s_r.copy_from(&w.f_r);
-        w.s_r += &m.g_r;
-        w.s_r.gemv(-1.0, &w.kc, &alpha, 1.0);
-        w.s_r.gemv(-1.0, &w.mvn, &w.s_l, 1.0);
-        w.rhs[..nr].copy_from_slice(w.s_r.as_slice());
-        // Step 4: right side of the constraint rows (scaled like the rows).
-        let sc = m.mass_scale;
-        let v = self.v.as_slice();
-        for (r, &(a, b, c)) in PAIRS.iter().enumerate() {
-            let d = edge(p, a) - edge(p, b);
-            let wv = point_vec(v, a) - point_vec(v, b);
-            let rhs = (c - d.norm_squared()) / (dt2 * (dt1 + dt2))
-                - (2.0 * d + dt2 * wv).dot(&wv) / (dt1 + dt2);
-            w.rhs[nr + r] = -sc * rhs;
-        }
-        if m.irot {
-            let bm = omega_matrix(&mid_frame(p, v, dt2));
-            let dt12 = (dt1 + dt2) / 2.0;
-            for r in 0..3 {
-                let mut bv = 0.0;
-                for (i, &bri) in bm[r].iter().enumerate() {
-                    bv += bri * v[i];
-                }
-                w.rhs[nr + 6 + r] = -sc * (bv - v[12 + r]) / dt12;
-            }
-        }
-        // Step 5: solve the saddle-point system.
-        let nc = m.nc();
-        w.kkt.solve(&mut w.rhs[..nr + nc]);
-        // Step 6: local accelerations.
-        let f2 = 1.0 + m.ray_a * dt2 / 2.0;
-        w.a.as_mut_slice()[..nr].copy_from_slice(&w.rhs[..nr]);
-        {
-            let a = w.a.as_mut_slice();
-            let (ar, al) = a.split_at_mut(nr);
-            let mvn = w.mvn.as_slice();
-            for (j, x) in al.iter_mut().enumerate() {
-                let mut s = w.s_l[j] / (m.m_l[j] * f2);
-                for (&y, &ai) in mvn[j * nr..(j + 1) * nr].iter().zip(ar.iter()) {
-                    s -= y * ai;
-                }
-                *x = s;
-            }
-        }
-        if w.a.iter().any(|x| !x.is_finite()) {
-            return Err(SolverError::Singular(
-                "accelerations are not finite (loads or step too large?)".into(),
-            ));
-        }
-        w.a_valid = true;
-        Ok(())
-    }
-
-    /// The load-independent part of steps 2 to 5: M_C, K_C, MVN and the factored
-    /// saddle-point matrix for the current state and the steps `dt1`, `dt2`.
-    fn factor_matrix(&mut self, dt1: f64, dt2: f64) -> Result<(), SolverError> {
-        let m = &self.m;
-        let w = &mut self.w;
-        let (nr, nl) = (m.nr, m.nl);
-        let p = &self.p;
-        // Step 2: M_C and K_C.
-        m.frame_matrices(p, &mut w.mc, &mut w.kc);
-        // Step 3: MVN.
-        let f1 = 1.0 + m.ray_a * dt1 / 2.0;
-        {
-            let mc = w.mc.as_slice();
-            let mvn = w.mvn.as_mut_slice();
-            for j in 0..nl {
-                let s = 1.0 / (m.m_l[j] * f1);
-                for (x, &y) in mvn[j * nr..(j + 1) * nr]
-                    .iter_mut()
-                    .zip(&mc[j * nr..(j + 1) * nr])
-                {
-                    *x = y * s;
-                }
-            }
-        }
-        // Step 5 matrix, upper-left block: M* = M_R - MVN M_C^T. It is symmetric (MVN
-        // is M_C scaled by column), so the upper triangle is formed row by row and
-        // mirrored: half the work, and exactly symmetric.
-        w.kkt.clear();
-        {
-            let (mvn, mc) = (w.mvn.as_slice(), w.mc.as_slice());
-            for i in 0..nr {
-                let row = &mut w.kkt.row_mut(i)[i..nr];
-                for (k, x) in row.iter_mut().enumerate() {
-                    *x = m.m_r[(i, i + k)];
-                }
-                for j in 0..nl {
-                    let ai = mvn[j * nr + i];
-                    for (x, &bk) in row.iter_mut().zip(&mc[j * nr + i..(j + 1) * nr]) {
-                        *x -= ai * bk;
-                    }
-                }
-            }
-            for i in 1..nr {
-                for k in 0..i {
-                    *w.kkt.at(i, k) = *w.kkt.at(k, i);
-                }
-            }
-        }
-        // Step 4: constraint rows, scaled by the mass scale so that the saddle-point
-        // matrix is well balanced (lambda is scaled alike and not needed).
-        let sc = m.mass_scale;
-        let v = self.v.as_slice();
-        for (r, &(a, b, _)) in PAIRS.iter().enumerate() {
-            let d = edge(p, a) - edge(p, b);
-            let wv = point_vec(v, a) - point_vec(v, b);
-            let g = d + dt2 * wv;
-            let row = nr + r;
-            for cc in 0..3 {
-                let (oa, ob) = (point_offset(a) + cc, point_offset(b) + cc);
-                *w.kkt.at(row, oa) -= sc * g[cc];
-                *w.kkt.at(row, ob) += sc * g[cc];
-                *w.kkt.at(oa, row) -= sc * g[cc];
-                *w.kkt.at(ob, row) += sc * g[cc];
-            }
-        }
-        if m.irot {
-            let bm = omega_matrix(&mid_frame(p, v, dt2));
-            for (r, bmr) in bm.iter().enumerate() {
-                let row = nr + 6 + r;
-                for (i, &bri) in bmr.iter().enumerate() {
-                    *w.kkt.at(row, i) += sc * bri;
-                    *w.kkt.at(i, row) += sc * bri;
-                }
-                *w.kkt.at(row, 12 + r) -= sc;
-                *w.kkt.at(12 + r, row) -= sc;
-            }
-        }
-        // Step 5: factor the saddle-point matrix.
-        let ratio = w.kkt.factor();
-        if ratio.is_nan() || ratio <= SINGULAR_RATIO {
-            return Err(singular_error(ratio));
-        }
-        Ok(())
     }
 
     /// One internal step of size `dt2` from the current time: accelerations (steps 2-6),
@@ -425,6 +280,74 @@ impl Explicit {
         let nq = self.m.nq();
         4 + 3 * nq + 9 + self.loads.state_len()
     }
+
+    /// The state into `d` (cleared first; no allocation once `d` has the capacity).
+    fn write_state(&self, d: &mut Vec<f64>) {
+        d.clear();
+        d.extend_from_slice(&[
+            self.t,
+            self.dt1,
+            self.dt_last,
+            f64::from(u8::from(self.jump)),
+        ]);
+        d.extend_from_slice(self.q.as_slice());
+        d.extend_from_slice(self.v.as_slice());
+        d.extend_from_slice(self.a_out.as_slice());
+        d.extend_from_slice(self.p.as_slice());
+        self.loads.save(d);
+    }
+
+    /// The sub-cycles of one communication step `h` (after the budget check): equal
+    /// internal steps at or below the step limit, the limit re-evaluated before each one
+    /// (the spin rate grows under a torque), the rest of the step split again when it
+    /// falls below the current step. Every internal step's frame is checked.
+    fn run_step(&mut self, h: f64) -> Result<(), SolverError> {
+        let t0 = self.t;
+        let t_end = t0 + h;
+        // After a load jump, restart from the synchronised velocities: the old loads act
+        // over the half step before this communication point, the new ones from it on.
+        if self.jump && self.dt1 > 0.0 {
+            self.v.axpy(0.5 * self.dt1, &self.a_out, 1.0);
+            self.dt1 = 0.0;
+            self.w.key = None;
+        }
+        self.jump = false;
+        let (n0, dt0) = self.internal_step(h);
+        let (mut seg_t0, mut seg_n, mut dt) = (t0, n0, dt0);
+        let mut k = 0.0;
+        let mut taken = 0.0;
+        while k < seg_n {
+            if self.opts.subcycle {
+                let lim = self.step_limit();
+                if dt > lim * (1.0 + 1e-12) {
+                    // The spin rate grew: split what is left at the new limit.
+                    let rest = t_end - self.t;
+                    seg_t0 = self.t;
+                    seg_n = (rest / lim).ceil().max(1.0);
+                    dt = rest / seg_n;
+                    k = 0.0;
+                    if taken + seg_n > MAX_INTERNAL_STEPS {
+                        return Err(SolverError::TooManySteps {
+                            h,
+                            steps: taken + seg_n,
+                            internal: lim,
+                            max_h: MAX_INTERNAL_STEPS * lim,
+                        });
+                    }
+                }
+            }
+            self.substep(dt)?;
+            let err = frame_error(&self.p);
+            if err > self.frame_tol {
+                return Err(frame_invalid(err, h, self.spin_rate()));
+            }
+            k += 1.0;
+            taken += 1.0;
+            self.t = if k == seg_n { t_end } else { seg_t0 + k * dt };
+        }
+        self.dt_last = dt;
+        self.evaluate_outputs()
+    }
 }
 
 impl Solver for Explicit {
@@ -459,30 +382,45 @@ impl Solver for Explicit {
         Ok(())
     }
 
+    /// Advance by `h`. Refused before any work when the sub-cycles at the current step
+    /// limit exceed [`MAX_INTERNAL_STEPS`] (the limit shrinks as the spin rate grows, so
+    /// a spin-up within the step that pushes the count past the budget is refused when
+    /// it happens). On any error the state is as before the call.
     fn step(&mut self, h: f64) -> Result<(), SolverError> {
         if !(h.is_finite() && h > 0.0) {
             return Err(SolverError::BadStep(h));
         }
         let (n, dt) = self.internal_step(h);
-        let t0 = self.t;
-        // After a load jump, restart from the synchronised velocities: the old loads act
-        // over the half step before this communication point, the new ones from it on.
-        if self.jump && self.dt1 > 0.0 {
-            self.v.axpy(0.5 * self.dt1, &self.a_out, 1.0);
-            self.dt1 = 0.0;
-            self.w.key = None;
+        if n > MAX_INTERNAL_STEPS {
+            let internal = self.step_limit();
+            return Err(SolverError::TooManySteps {
+                h,
+                steps: n,
+                internal: dt.min(internal),
+                max_h: MAX_INTERNAL_STEPS * internal,
+            });
         }
-        self.jump = false;
-        for k in 0..n {
-            self.substep(dt)?;
-            self.t = if k + 1 == n {
-                t0 + h
-            } else {
-                t0 + (k + 1) as f64 * dt
+        let mut backup = std::mem::take(&mut self.backup.data);
+        self.write_state(&mut backup);
+        self.backup.data = backup;
+        let r = self.run_step(h);
+        if r.is_err() {
+            let empty = State {
+                method: Method::Explicit,
+                data: Vec::new(),
             };
+            let backup = std::mem::replace(&mut self.backup, empty);
+            let restored = self.set_state(&backup);
+            self.backup = backup;
+            restored?;
+            return r;
         }
-        self.dt_last = dt;
-        self.evaluate_outputs()
+        self.warning = spin_warning(
+            &self.m,
+            self.frame_angular_velocity().norm(),
+            &mut self.warned,
+        );
+        r
     }
 
     fn positions(&self, out: &mut [f64]) {
@@ -541,21 +479,20 @@ impl Solver for Explicit {
 
     fn state(&self) -> State {
         let mut d = Vec::with_capacity(self.state_len());
-        d.extend_from_slice(&[
-            self.t,
-            self.dt1,
-            self.dt_last,
-            f64::from(u8::from(self.jump)),
-        ]);
-        d.extend_from_slice(self.q.as_slice());
-        d.extend_from_slice(self.v.as_slice());
-        d.extend_from_slice(self.a_out.as_slice());
-        d.extend_from_slice(self.p.as_slice());
-        self.loads.save(&mut d);
+        self.write_state(&mut d);
         State {
             method: Method::Explicit,
             data: d,
         }
+    }
+
+    fn state_into(&self, out: &mut State) {
+        out.method = Method::Explicit;
+        self.write_state(&mut out.data);
+    }
+
+    fn take_warning(&mut self) -> Option<String> {
+        self.warning.take()
     }
 
     fn set_state(&mut self, state: &State) -> Result<(), SolverError> {

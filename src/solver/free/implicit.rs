@@ -34,11 +34,12 @@ use nalgebra::{DMatrix, DVector, Matrix3};
 
 use super::lu::Lu;
 use super::{
-    Loads, Model, PAIRS, edge, omega_matrix, omega_rate_from_frame, point_offset, point_vec,
+    Loads, MAX_FRAME_ERROR, Model, PAIRS, edge, frame_error, frame_invalid, frame_omega,
+    omega_matrix, omega_rate_from_frame, point_offset, point_vec, spin_warning,
 };
 use crate::scene::Scene;
 use crate::solver::nodes::check_state;
-use crate::solver::{Frame, Method, Options, Solver, SolverError, State};
+use crate::solver::{Frame, MAX_INTERNAL_STEPS, Method, Options, Solver, SolverError, State};
 
 /// Largest spectral radius accepted for free bodies. At exactly 1 (trapezoidal rule,
 /// no damping at infinity) the position-level constraints make the multipliers
@@ -86,6 +87,12 @@ pub struct Implicit {
     lam: DVector<f64>,
     /// Loads changed at t = 0 before the first step: recompute vdot_0.
     fresh: bool,
+    /// The state before the current step, restored when the step fails (preallocated).
+    backup: State,
+    /// The spin-rate warning was raised (once per solver).
+    warned: bool,
+    /// A warning of the last step, not yet taken.
+    warning: Option<String>,
     loads: Loads,
     p: Matrix3<f64>,
     w: Work,
@@ -116,6 +123,8 @@ struct Work {
     z: Vec<f64>,
     /// Saved state for a step that has to be split.
     save: [DVector<f64>; 5],
+    /// Size of the step being iterated (0 for the initial accelerations), for messages.
+    h_now: f64,
 }
 
 impl Implicit {
@@ -163,6 +172,7 @@ impl Implicit {
                 z.clone(),
                 DVector::zeros(nc),
             ],
+            h_now: 0.0,
         };
         let mut s = Implicit {
             p: m.p0,
@@ -175,10 +185,17 @@ impl Implicit {
             a: z,
             lam: DVector::zeros(nc),
             fresh: false,
+            backup: State {
+                method: Method::Implicit,
+                data: Vec::new(),
+            },
+            warned: false,
+            warning: None,
             m,
             w,
         };
         s.initial_accelerations()?;
+        s.backup.data.reserve(s.state_len());
         Ok(s)
     }
 
@@ -281,7 +298,67 @@ impl Implicit {
     fn state_len(&self) -> usize {
         2 + 4 * self.m.nq() + self.m.nc() + self.loads.state_len()
     }
+
+    /// The state into `d` (cleared first; no allocation once `d` has the capacity).
+    fn write_state(&self, d: &mut Vec<f64>) {
+        d.clear();
+        d.push(self.t);
+        d.push(if self.fresh { 1.0 } else { 0.0 });
+        d.extend_from_slice(self.q.as_slice());
+        d.extend_from_slice(self.v.as_slice());
+        d.extend_from_slice(self.acc.as_slice());
+        d.extend_from_slice(self.a.as_slice());
+        d.extend_from_slice(self.lam.as_slice());
+        self.loads.save(d);
+    }
+
+    /// One communication step (no state restore on failure: [`Solver::step`] does it).
+    fn run_step(&mut self, h: f64) -> Result<(), SolverError> {
+        if self.fresh {
+            self.initial_accelerations()?;
+            self.fresh = false;
+        }
+        let t0 = self.t;
+        let t_end = t0 + h;
+        self.save();
+        // Try the whole step; on failure restart with 2, 4, ... equal pieces.
+        let mut last = None;
+        for split in 0..=MAX_SPLIT {
+            let n = 1usize << split;
+            let dt = h / n as f64;
+            let mut ok = true;
+            for _ in 0..n {
+                if let Err(e) = self.try_step(dt) {
+                    last = Some(e);
+                    ok = false;
+                    break;
+                }
+            }
+            if ok {
+                self.t = t_end;
+                let err = frame_error(&self.p);
+                if err > MAX_FRAME_ERROR {
+                    return Err(frame_invalid(err, h, self.spin_rate()));
+                }
+                return Ok(());
+            }
+            self.restore(t0);
+        }
+        Err(last.unwrap_or(SolverError::BadStep(h)))
+    }
+
+    /// Spin rate `|omega|` of the frame (rad/s).
+    fn spin_rate(&self) -> f64 {
+        frame_omega(&self.p, self.v.as_slice()).norm()
+    }
 }
+
+/// The most Newton iterations one step can take: [`MAX_ITER`](newton) per piece over
+/// 1 + 2 + 4 + ... + 2^MAX_SPLIT pieces. It is within [`MAX_INTERNAL_STEPS`] (checked at
+/// compile time), so the implicit method needs no step-size refusal: its work per call
+/// is bounded whatever h.
+pub const MAX_NEWTON_PER_STEP: usize = newton::MAX_ITER * ((2 << MAX_SPLIT) - 1);
+const _: () = assert!(MAX_NEWTON_PER_STEP as f64 <= MAX_INTERNAL_STEPS);
 
 /// The rigid mass M_R into the top-left of the reduced (rigid + constraint) matrix.
 fn fill_mass(m: &Model, kkt: &mut Lu) {
@@ -317,37 +394,29 @@ impl Solver for Implicit {
         Ok(())
     }
 
+    /// Advance by `h`. The work is bounded ([`MAX_NEWTON_PER_STEP`]); on any error the
+    /// state is as before the call.
     fn step(&mut self, h: f64) -> Result<(), SolverError> {
         if !(h.is_finite() && h > 0.0) {
             return Err(SolverError::BadStep(h));
         }
-        if self.fresh {
-            self.initial_accelerations()?;
-            self.fresh = false;
+        let mut backup = std::mem::take(&mut self.backup.data);
+        self.write_state(&mut backup);
+        self.backup.data = backup;
+        let r = self.run_step(h);
+        if r.is_err() {
+            let empty = State {
+                method: Method::Implicit,
+                data: Vec::new(),
+            };
+            let backup = std::mem::replace(&mut self.backup, empty);
+            let restored = self.set_state(&backup);
+            self.backup = backup;
+            restored?;
+            return r;
         }
-        let t0 = self.t;
-        let t_end = t0 + h;
-        self.save();
-        // Try the whole step; on failure restart with 2, 4, ... equal pieces.
-        let mut last = None;
-        for split in 0..=MAX_SPLIT {
-            let n = 1usize << split;
-            let dt = h / n as f64;
-            let mut ok = true;
-            for _ in 0..n {
-                if let Err(e) = self.try_step(dt) {
-                    last = Some(e);
-                    ok = false;
-                    break;
-                }
-            }
-            if ok {
-                self.t = t_end;
-                return Ok(());
-            }
-            self.restore(t0);
-        }
-        Err(last.unwrap_or(SolverError::BadStep(h)))
+        self.warning = spin_warning(&self.m, self.spin_rate(), &mut self.warned);
+        r
     }
 
     fn positions(&self, out: &mut [f64]) {
@@ -384,18 +453,20 @@ impl Solver for Implicit {
 
     fn state(&self) -> State {
         let mut d = Vec::with_capacity(self.state_len());
-        d.push(self.t);
-        d.push(if self.fresh { 1.0 } else { 0.0 });
-        d.extend_from_slice(self.q.as_slice());
-        d.extend_from_slice(self.v.as_slice());
-        d.extend_from_slice(self.acc.as_slice());
-        d.extend_from_slice(self.a.as_slice());
-        d.extend_from_slice(self.lam.as_slice());
-        self.loads.save(&mut d);
+        self.write_state(&mut d);
         State {
             method: Method::Implicit,
             data: d,
         }
+    }
+
+    fn state_into(&self, out: &mut State) {
+        out.method = Method::Implicit;
+        self.write_state(&mut out.data);
+    }
+
+    fn take_warning(&mut self) -> Option<String> {
+        self.warning.take()
     }
 
     fn set_state(&mut self, state: &State) -> Result<(), SolverError> {

@@ -30,9 +30,14 @@ use crate::scene::Scene;
 pub mod explicit;
 pub mod implicit;
 mod lu;
+mod validity;
 
 pub use explicit::Explicit;
 pub use implicit::Implicit;
+pub use validity::{MAX_FRAME_ERROR, SPIN_STEP, SPIN_WARN_RATIO};
+pub(crate) use validity::{
+    SINGULAR_RATIO, frame_error, frame_invalid, singular_error, spin_warning,
+};
 
 /// Global initial coordinates of every node of a free body that comes without a node
 /// deck, derived from its rigid modes.
@@ -234,6 +239,9 @@ pub(crate) struct Model {
     pub g_r: DVector<f64>,
     /// Largest frequency of (K_L, m_L), Hz.
     pub freq_max: f64,
+    /// Circular frequency of the first (lowest non-zero) local mode, rad/s; infinite
+    /// without local modes.
+    pub omega1: f64,
     /// Mass scale used to scale constraint rows.
     pub mass_scale: f64,
 }
@@ -296,6 +304,14 @@ impl Model {
         }
         let g_r = &body.m_r * &s_grav;
         let freq_max = body.frequencies_hz.iter().cloned().fold(0.0, f64::max);
+        let omega1 = body
+            .frequencies_hz
+            .iter()
+            .copied()
+            .filter(|&f| f > 0.0)
+            .fold(f64::INFINITY, f64::min)
+            * 2.0
+            * std::f64::consts::PI;
         let damping = body.damping.unwrap_or_default();
         let mass_scale = (0..12).map(|i| body.m_r[(i, i)].abs()).fold(0.0, f64::max);
         if mass_scale <= 0.0 || !mass_scale.is_finite() {
@@ -329,6 +345,7 @@ impl Model {
             s_grav,
             g_r,
             freq_max,
+            omega1,
             mass_scale,
         })
     }
@@ -567,15 +584,4 @@ fn combine(w: &[f64; 9], blocks: &[DMatrix<f64>], out: &mut [f64]) {
         }
         *x = s;
     }
-}
-
-/// Pivot ratio below which a saddle-point matrix counts as singular.
-pub(crate) const SINGULAR_RATIO: f64 = 1e-13;
-
-/// The error for a singular saddle-point system.
-pub(crate) fn singular_error(ratio: f64) -> SolverError {
-    SolverError::Singular(format!(
-        "the rigid-motion system is singular (pivot ratio {ratio:.1e}): a body whose \
-         nodes all lie on one line has no inertia about that line"
-    ))
 }

@@ -5,7 +5,9 @@
 
 use nalgebra::Matrix3;
 
-use super::super::{PAIRS, SINGULAR_RATIO, edge, omega_matrix, point_offset, singular_error};
+use super::super::{
+    PAIRS, SINGULAR_RATIO, edge, frame_omega, omega_matrix, point_offset, singular_error,
+};
 use super::{Implicit, Params, fill_mass};
 use crate::solver::SolverError;
 
@@ -18,7 +20,7 @@ const TOL_ACC: f64 = 1e-11;
 /// round-off floor near 1e-10 in the relative acceleration update, which this accepts.
 const TOL_POS: f64 = 1e-14;
 /// Largest number of Newton iterations before a step is split.
-const MAX_ITER: usize = 40;
+pub(super) const MAX_ITER: usize = 40;
 /// Keep the iteration matrix across Newton iterations (modified Newton).
 const MODIFIED_NEWTON: bool = true;
 /// With modified Newton, rebuild the iteration matrix when an update is larger than this
@@ -39,6 +41,7 @@ impl Implicit {
         let bt = h * h * beta * ca;
         let gt = h * gamma * ca;
         let t1 = self.t + h;
+        self.w.h_now = h;
         self.w.x.copy_from(&self.acc);
         self.w.lam.copy_from(&self.lam);
         let sc = self.m.mass_scale;
@@ -224,6 +227,9 @@ impl Implicit {
         let w = &mut self.w;
         let (nr, nl, nq, nc) = (m.nr, m.nl, m.nq(), m.nc());
         if refresh && w.lkey != Some((bt, gt)) {
+            // Invalidate first: a factorisation that fails below must not be taken for
+            // the matrix of the old key by a later call.
+            w.lkey = None;
             w.lfac.clear();
             for j in 0..nl {
                 for k in 0..nl {
@@ -234,7 +240,11 @@ impl Implicit {
             let ratio = w.lfac.factor();
             if ratio.is_nan() || ratio <= SINGULAR_RATIO {
                 return Err(SolverError::Singular(format!(
-                    "local iteration matrix is singular (pivot ratio {ratio:.1e})"
+                    "the local (modal) iteration matrix is singular (pivot ratio {}) for the \
+                     step {} s: the step is too large for the numbers to stay finite; use a \
+                     smaller communication step",
+                    crate::num::num(ratio),
+                    crate::num::num(w.h_now)
                 )));
             }
             for (idx, y) in w.ykl.iter_mut().enumerate() {
@@ -284,7 +294,8 @@ impl Implicit {
             }
             let ratio = w.kkt.factor();
             if ratio.is_nan() || ratio <= SINGULAR_RATIO {
-                return Err(singular_error(ratio));
+                let spin = frame_omega(&self.p, self.v.as_slice()).norm();
+                return Err(singular_error(ratio, w.h_now, spin));
             }
         }
         // z = L^-1 r_L.

@@ -1,0 +1,115 @@
+//! When a free body has left what the methods or the model can answer for, and what the
+//! product says then: a singular saddle-point system (with the step and spin rate that
+//! made it so), a frame that is no longer a rotation (the step is refused), a spin rate
+//! near the first local mode (a warning, once), and the spin-rate bound of the explicit
+//! method's internal step.
+
+use nalgebra::Matrix3;
+
+use super::Model;
+use crate::num::num;
+use crate::solver::SolverError;
+
+/// Pivot ratio below which a saddle-point matrix counts as singular.
+pub(crate) const SINGULAR_RATIO: f64 = 1e-13;
+
+/// The error for a singular saddle-point system, with what was asked of it: the step
+/// `dt` (0 for the evaluation at build, before any step: its matrix depends on the body
+/// alone) and the frame's spin rate.
+///
+/// At build, with the body at rest, only the body itself can be at fault (nodes on one
+/// line: no inertia about that line). During a run the same body solved fine before, so
+/// the step, spin rate or load is what made the system singular, and the message says so
+/// with the figures instead of blaming the geometry.
+pub(crate) fn singular_error(ratio: f64, dt: f64, spin: f64) -> SolverError {
+    let what = format!(
+        "the rigid-motion saddle-point system is singular (pivot ratio {}, condition \
+         above {})",
+        num(ratio),
+        num(1.0 / ratio)
+    );
+    if dt == 0.0 {
+        return SolverError::Singular(format!(
+            "{what} before any step: a body whose nodes all lie on one line has \
+             no inertia about that line"
+        ));
+    }
+    SolverError::Singular(format!(
+        "{what} with the internal step {} s at spin rate {} rad/s (rotation per step {} \
+         rad): the step, spin rate or load is too large for the frame constraints; use a \
+         smaller communication step or smaller loads",
+        num(dt),
+        num(spin),
+        num(spin * dt)
+    ))
+}
+
+/// Largest `|P^T P - I|` (entry-wise) a step may leave: beyond it the frame is no longer
+/// a rotation and the step is refused. The methods keep it near 1e-13 (implicit: Newton
+/// tolerance on the constraints) and 1e-10 (explicit: the constraint rows act on the
+/// predicted edges), so 1e-6 flags a broken frame long before positions go visibly wrong.
+pub const MAX_FRAME_ERROR: f64 = 1e-6;
+
+/// Spin rate, as a fraction of the first local mode's circular frequency, above which a
+/// step warns once that the body has left the model's validity. The model leaves out the
+/// centrifugal terms of the deformation (spin softening `-Omega^2` in the local stiffness,
+/// geometric stiffening from the centrifugal pre-stress): both change the first mode's
+/// `omega^2` by a fraction of order `(Omega / omega_1)^2`, 1 % at this ratio. It is also
+/// where the model itself stops being trustworthy on the shipped truss (local modes from a
+/// 3-2-1 support): spun about a tumbling axis it diverges with both methods between 0.1
+/// and 0.13 omega_1 (50 to 70 rad/s, omega_1 = 519 rad/s), so a higher threshold would
+/// warn too late there (docs/STUDY.md, spin-rate stability).
+pub const SPIN_WARN_RATIO: f64 = 0.1;
+
+/// Largest rotation per internal step `|omega| dt` (rad) of the explicit method: its
+/// internal step is at most `SPIN_STEP / |omega|` as well as `dt_factor x dt_fx`.
+/// Measured by the study (docs/STUDY.md, spin-rate stability): the frame error the
+/// scheme leaves is `|P^T P - I| ~ (|omega| dt)^4` (1e-8 at 0.01, 8e-7 at 0.03, 6e-6 at
+/// 0.05 on the free-free beam), so 0.01 keeps it a factor 100 below the refusal at
+/// `MAX_FRAME_ERROR`; the frame update itself stays bounded up to 0.5.
+pub const SPIN_STEP: f64 = 0.01;
+
+/// `|P^T P - I|`, largest entry: how far the frame is from a rotation.
+pub(crate) fn frame_error(p: &Matrix3<f64>) -> f64 {
+    let mut e: f64 = 0.0;
+    for i in 0..3 {
+        for j in 0..3 {
+            let d = p.column(i).dot(&p.column(j)) - if i == j { 1.0 } else { 0.0 };
+            e = e.max(d.abs());
+        }
+    }
+    if e.is_nan() { f64::INFINITY } else { e }
+}
+
+/// The refusal of a step that would leave the frame no longer a rotation.
+pub(crate) fn frame_invalid(err: f64, h: f64, spin: f64) -> SolverError {
+    SolverError::Invalid(format!(
+        "the step of {} s would leave the body frame no longer a rotation (|P^T P - I| = \
+         {}, more than {}) at spin rate {} rad/s; the step was refused and the state is as \
+         before it: use smaller communication steps or the implicit method",
+        num(h),
+        num(err),
+        num(MAX_FRAME_ERROR),
+        num(spin)
+    ))
+}
+
+/// Spin-rate check at the end of a step: when `|omega|` passes `SPIN_WARN_RATIO x
+/// omega_1` for the first time in this solver's life, the warning text (else `None`).
+pub(crate) fn spin_warning(m: &Model, spin: f64, warned: &mut bool) -> Option<String> {
+    if *warned || spin.is_nan() || spin <= SPIN_WARN_RATIO * m.omega1 {
+        return None;
+    }
+    *warned = true;
+    Some(format!(
+        "the body spins at {} rad/s, {} times the first local mode's circular frequency {} \
+         rad/s (warning from {} times): the model has no centrifugal stiffening or spin \
+         softening, so its deformation is no longer valid at this spin rate; results may \
+         be wrong. Reduce the spin rate, or use a body whose modes were computed for it \
+         (stiffer, or pre-stressed). Warned once per instance",
+        num(spin),
+        num(spin / m.omega1),
+        num(m.omega1),
+        num(SPIN_WARN_RATIO)
+    ))
+}
