@@ -6,6 +6,7 @@ use nalgebra::{DMatrix, DVector, Matrix3};
 use crate::fxb::FxbFile;
 
 mod checks;
+pub mod placement;
 
 pub use checks::{BodyError, MAX_LOCAL_MODES};
 
@@ -75,6 +76,47 @@ impl Body {
     /// Number of nodes N.
     pub fn nnodes(&self) -> usize {
         self.node_ids.len()
+    }
+
+    /// Largest computed eigenfrequency of (K_L, m_L) in Hz (0 without local modes). The
+    /// solvers and `info` take the stable step from this, not from the stored Freq.
+    pub fn freq_max_hz(&self) -> f64 {
+        self.frequencies_hz.last().copied().unwrap_or(0.0)
+    }
+
+    /// Stable step of the explicit scheme for this body: [`stable_step`] of the largest
+    /// computed eigenfrequency and the stiffness damping beta. The one place both
+    /// explicit solvers and `fxbody info` get it from.
+    pub fn explicit_stable_step(&self) -> f64 {
+        stable_step(self.freq_max_hz(), self.damping.map_or(0.0, |d| d.beta))
+    }
+
+    /// Global initial position of every node of a free body from its rigid modes, with
+    /// the frame origin L0 at the global origin; `None` for a blocked body.
+    ///
+    /// Rigid mode 1 is `X e_1` on the translation rows, mode 4 is `Y e_1` and mode 7 is
+    /// `Z e_1` (FORMULATION.md section 1), so the x-translation rows of modes 1, 4 and 7
+    /// give each node's local coordinates `(X, Y, Z)`, and `x0 = P0 (X, Y, Z)`. These
+    /// fix every node relative to L0: a coordinate file only places L0
+    /// ([`placement::check_coords`]).
+    pub fn rigid_mode_positions(&self) -> Option<Vec<[f64; 3]>> {
+        if self.nr() < 12 {
+            return None;
+        }
+        Some(
+            (0..self.nnodes())
+                .map(|n| {
+                    let r = 6 * n;
+                    let local = nalgebra::Vector3::new(
+                        self.phi_r[(r, 0)],
+                        self.phi_r[(r, 3)],
+                        self.phi_r[(r, 6)],
+                    );
+                    let x = self.p0 * local;
+                    [x[0], x[1], x[2]]
+                })
+                .collect(),
+        )
     }
 
     /// Position of a node ID in the node list.
@@ -190,7 +232,8 @@ impl Body {
 }
 
 /// Eigenfrequencies (Hz, ascending) of `K x = w^2 diag(m) x`, from the symmetric
-/// mass-scaled matrix `m^-1/2 K m^-1/2`. Negative round-off eigenvalues read as 0 Hz.
+/// mass-scaled matrix `m^-1/2 K m^-1/2`. Negative round-off eigenvalues read as 0 Hz; a
+/// NaN eigenvalue (overflow) stays NaN, so that the body checks refuse it.
 pub fn eigenfrequencies_hz(k: &DMatrix<f64>, m: &DVector<f64>) -> Vec<f64> {
     let n = m.len();
     if n == 0 {
@@ -201,7 +244,13 @@ pub fn eigenfrequencies_hz(k: &DMatrix<f64>, m: &DVector<f64>) -> Vec<f64> {
     let mut f: Vec<f64> = scaled
         .symmetric_eigenvalues()
         .iter()
-        .map(|&l| l.max(0.0).sqrt() / (2.0 * std::f64::consts::PI))
+        .map(|&l| {
+            if l.is_nan() {
+                f64::NAN
+            } else {
+                l.max(0.0).sqrt() / (2.0 * std::f64::consts::PI)
+            }
+        })
         .collect();
     f.sort_by(f64::total_cmp);
     f

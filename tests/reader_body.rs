@@ -194,7 +194,12 @@ fn overflowing_matrices_are_refused_not_passed_as_nan() {
     f.k_diag = vec![1e308];
     f.m_l = vec![1e-300, 1e-300];
     let (e, msg) = body_err(&f);
-    assert!(matches!(e, BodyError::Overflow { .. }), "{msg}");
+    // Issue 13: refused at the cause, the mass that makes K_L(1,1)/m_L(1) overflow.
+    assert!(
+        matches!(e, BodyError::MassTooSmall { mode: 1, .. }),
+        "{msg}"
+    );
+    assert!(msg.contains("block 8") && msg.contains("1e-300"), "{msg}");
     // Large but representable numbers are not an overflow: M_R scaled by 1e300 is a
     // valid (absurdly heavy) body.
     let mut f = read("body_b0_r0_d0.fxb");
@@ -307,4 +312,59 @@ fn rigid_mass_without_translational_mass() {
     let (e, msg) = body_err(&f);
     assert!(matches!(e, BodyError::NoMass { .. }), "{msg}");
     assert!(msg.starts_with("b.fxb: block 11"), "{msg}");
+}
+
+/// Issue 13 class 3: impossible bodies are refused with the block and the value.
+#[test]
+fn negative_rayleigh_damping_is_refused() {
+    for (k, which) in [(0, "alpha"), (1, "beta")] {
+        let mut f = read("body_b0_r0_d1.fxb");
+        let (mut a, mut b) = f.damping.unwrap();
+        if k == 0 {
+            a = -0.5;
+        } else {
+            b = -2e-4;
+        }
+        f.damping = Some((a, b));
+        let (e, msg) = body_err(&f);
+        assert!(matches!(e, BodyError::NegativeDamping { .. }), "{msg}");
+        let v = if k == 0 { "-0.5" } else { "-0.0002" };
+        assert_eq!(
+            msg,
+            format!("b.fxb: block 4 (Rayleigh damping): {which} must be >= 0, found {which} = {v}")
+        );
+    }
+}
+
+#[test]
+fn subnormal_local_mass_is_refused() {
+    let mut f = read("fmt_fixed.fxb");
+    f.m_l[0] = 1e-320;
+    let (e, msg) = body_err(&f);
+    assert!(
+        matches!(e, BodyError::MassTooSmall { mode: 1, .. }),
+        "{msg}"
+    );
+    assert!(
+        msg.starts_with("b.fxb: block 8 (local mass m_L): m_L(1) = 1e-320"),
+        "{msg}"
+    );
+}
+
+#[test]
+fn body_stable_step_comes_from_the_computed_frequency() {
+    // Stored Freq 1e-98 (a warning only): the step comes from the computed frequency,
+    // the same value the explicit solver uses.
+    let mut f = read("fmt_fixed.fxb");
+    f.freq = 1e-98;
+    let b = Body::from_fxb(&f, "b.fxb").unwrap();
+    let beta = b.damping.map_or(0.0, |d| d.beta);
+    let want = fxbody::body::stable_step(b.frequencies_hz[1], beta);
+    assert!((b.explicit_stable_step() - want).abs() < 1e-15 * want);
+    assert!(
+        b.explicit_stable_step() < 1.0,
+        "{}",
+        b.explicit_stable_step()
+    );
+    assert_eq!(b.warnings.len(), 1);
 }

@@ -6,6 +6,7 @@ use nalgebra::{DMatrix, Matrix3};
 
 use super::Body;
 use crate::fxb::{Block, FxbFile};
+use crate::num::num;
 
 /// Largest nL a body may have: K_L is dense and its eigenvalues are computed.
 pub const MAX_LOCAL_MODES: usize = 5000;
@@ -99,6 +100,42 @@ pub enum BodyError {
         name: String,
         /// 1-based mode.
         mode: usize,
+        /// The value.
+        value: f64,
+    },
+    /// A local mass so small (subnormal, or against its stiffness) that the frequencies
+    /// cannot be computed as finite positive numbers.
+    #[error("{name}: block 8 (local mass m_L): m_L({mode}) = {value} is too small: {why}")]
+    MassTooSmall {
+        /// Source file.
+        name: String,
+        /// 1-based mode.
+        mode: usize,
+        /// The value, in compact form.
+        value: String,
+        /// What cannot be computed.
+        why: String,
+    },
+    /// Negative Rayleigh damping: it feeds energy in, and the explicit step formula
+    /// takes the square root of a negative number.
+    #[error("{name}: block 4 (Rayleigh damping): {which} must be >= 0, found {which} = {value}")]
+    NegativeDamping {
+        /// Source file.
+        name: String,
+        /// `alpha` or `beta`.
+        which: &'static str,
+        /// The value, in compact form.
+        value: String,
+    },
+    /// An eigenfrequency of (K_L, m_L) that is not finite.
+    #[error(
+        "{name}: blocks 8-10 (m_L, K_L): eigenfrequency {index} of (K_L, m_L) is not finite ({value}): the matrices overflow"
+    )]
+    FrequencyNotFinite {
+        /// Source file.
+        name: String,
+        /// 1-based index in ascending order.
+        index: usize,
         /// The value.
         value: f64,
     },
@@ -241,12 +278,31 @@ pub(super) fn check_raw(f: &FxbFile, name: &str) -> Result<(), BodyError> {
             value: frame[index],
         });
     }
+    if let Some((a, b)) = f.damping {
+        for (which, v) in [("alpha", a), ("beta", b)] {
+            if v < 0.0 {
+                return Err(BodyError::NegativeDamping {
+                    name: name.into(),
+                    which,
+                    value: num(v),
+                });
+            }
+        }
+    }
     // Before assembly: the eigen analysis divides by sqrt(m_L).
     if let Some((j, &value)) = f.m_l.iter().enumerate().find(|(_, v)| **v <= 0.0) {
         return Err(BodyError::NonPositiveMass {
             name: name.into(),
             mode: j + 1,
             value,
+        });
+    }
+    if let Some((j, &value)) = f.m_l.iter().enumerate().find(|(_, v)| !v.is_normal()) {
+        return Err(BodyError::MassTooSmall {
+            name: name.into(),
+            mode: j + 1,
+            value: num(value),
+            why: "a subnormal number (below 2.2e-308), 1/sqrt(m_L) overflows".into(),
         });
     }
     Ok(())
@@ -261,8 +317,18 @@ pub(super) fn check_body(b: &Body, name: &str) -> Result<Vec<String>, BodyError>
         block: Block::new(block),
         what,
     };
-    if !b.frequencies_hz.iter().all(|f| f.is_finite()) {
-        return Err(overflow(9, "an eigenfrequency of (K_L, m_L)"));
+    check_mass_scale(b, name)?;
+    if let Some((k, &value)) = b
+        .frequencies_hz
+        .iter()
+        .enumerate()
+        .find(|(_, f)| !f.is_finite())
+    {
+        return Err(BodyError::FrequencyNotFinite {
+            name: name.into(),
+            index: k + 1,
+            value,
+        });
     }
     if b.nl() > 0 {
         if b.freq_file <= 0.0 {
@@ -288,7 +354,7 @@ pub(super) fn check_body(b: &Body, name: &str) -> Result<Vec<String>, BodyError>
         if (b.freq_file - fmax).abs() > 0.01 * fmax {
             warnings.push(format!(
                 "{name}: block 3: stored Freq = {} Hz differs from the largest eigenfrequency \
-                 of (K_L, m_L) = {} Hz by more than 1%; the stable step uses the stored value",
+                 of (K_L, m_L) = {} Hz by more than 1%; the stable step uses the computed one",
                 b.freq_file, fmax
             ));
         }
@@ -297,6 +363,51 @@ pub(super) fn check_body(b: &Body, name: &str) -> Result<Vec<String>, BodyError>
         check_rigid_mass(b, name)?;
     }
     Ok(warnings)
+}
+
+/// Each `k_jj / m_j` must be finite, and the largest computed `omega^2` at least the
+/// largest of them (a Rayleigh quotient bounds the top eigenvalue from below): an m_L
+/// tiny against the others makes the mass-scaled matrix overflow or lose every digit,
+/// and the frequencies would read as 0 Hz or NaN.
+fn check_mass_scale(b: &Body, name: &str) -> Result<(), BodyError> {
+    let two_pi = 2.0 * std::f64::consts::PI;
+    let mut top: Option<(usize, f64)> = None;
+    for j in 0..b.nl() {
+        let q = b.k_l[(j, j)] / b.m_l[j];
+        if !q.is_finite() {
+            return Err(BodyError::MassTooSmall {
+                name: name.into(),
+                mode: j + 1,
+                value: num(b.m_l[j]),
+                why: format!(
+                    "K_L({0},{0}) / m_L({0}) = {1} / {2} is not finite",
+                    j + 1,
+                    num(b.k_l[(j, j)]),
+                    num(b.m_l[j])
+                ),
+            });
+        }
+        if top.is_none_or(|(_, t)| q > t) {
+            top = Some((j, q));
+        }
+    }
+    let Some((j, q)) = top else { return Ok(()) };
+    let w2 = (two_pi * b.freq_max_hz()).powi(2);
+    if q > 0.0 && (w2.is_nan() || w2 < q * (1.0 - 1e-6)) {
+        return Err(BodyError::MassTooSmall {
+            name: name.into(),
+            mode: j + 1,
+            value: num(b.m_l[j]),
+            why: format!(
+                "the largest computed eigenfrequency {f} Hz is below the lower bound sqrt(K_L({j},{j}) / m_L({j}))/(2 pi) = {lb} Hz: \
+                 the masses span too many orders of magnitude for the eigen analysis",
+                f = num(b.freq_max_hz()),
+                lb = num(q.sqrt() / two_pi),
+                j = j + 1
+            ),
+        });
+    }
+    Ok(())
 }
 
 fn check_frame(p: &Matrix3<f64>, name: &str) -> Result<(), BodyError> {

@@ -6,7 +6,6 @@ use std::fmt::Write;
 use super::options::SceneOptions;
 use super::vars::{Causality, VarTable, method_name};
 use super::xml::default_experiment;
-use crate::body::stable_step;
 use crate::scene::Scene;
 
 fn esc(s: &str) -> String {
@@ -25,13 +24,12 @@ pub fn index_html(scene: &Scene, table: &VarTable, opts: &SceneOptions, guid: &s
         "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>{0}</title></head><body>\n<h1>{0}</h1>\n",
         esc(&opts.name)
     );
-    let beta = b.damping.map_or(0.0, |d| d.beta);
     let (stop, step) = default_experiment(scene);
     let _ = write!(
         h,
         "<p>A Radioss flexible body (/FXBODY) as an FMI 2.0 co-simulation unit, packed by fxbody {}.\
          GUID {}.</p>\n<ul>\n<li>{} body, {} nodes, {} local modes ({} static), rotational DOFs: {}</li>\n\
-         <li>Damping: {}</li>\n<li>Explicit stable step (from the stored Freq {:.6e} Hz): {:.6e} s</li>\n\
+         <li>Damping: {}</li>\n<li>Explicit stable step (from the largest computed eigenfrequency {:.6e} Hz; stored Freq {:.6e} Hz): {:.6e} s</li>\n\
          <li>Default experiment: stop {} s, step {} s</li>\n<li>Methods: {}; default {}</li>\n<li>Units: {}</li>\n</ul>\n",
         env!("CARGO_PKG_VERSION"),
         esc(guid),
@@ -44,8 +42,9 @@ pub fn index_html(scene: &Scene, table: &VarTable, opts: &SceneOptions, guid: &s
             "Rayleigh alpha {} 1/s, beta {} s",
             d.alpha, d.beta
         )),
+        b.freq_max_hz(),
         b.freq_file,
-        stable_step(b.freq_file, beta),
+        b.explicit_stable_step(),
         stop,
         step,
         table

@@ -78,8 +78,7 @@ pub enum Fmax {
 pub fn prepare_with(req: &PackRequest, fmax: Option<Fmax>) -> Result<Prepared, PackError> {
     let e = |s: String| PackError(s);
     let body_name = req.body.display().to_string();
-    let body_bytes = std::fs::read(&req.body)
-        .map_err(|err| e(format!("{body_name}: cannot read the file: {err}")))?;
+    let body_bytes = fxb::read_bytes(&req.body).map_err(|err| e(err.to_string()))?;
     let file = fxb::parse(&body_bytes, &body_name).map_err(|err| e(err.to_string()))?;
     let body = Body::from_fxb(&file, &body_name).map_err(|err| e(err.to_string()))?;
     let mut notes: Vec<String> = body
@@ -103,6 +102,19 @@ pub fn prepare_with(req: &PackRequest, fmax: Option<Fmax>) -> Result<Prepared, P
         },
     };
     let map = coords::to_map(&xyz);
+    if let Some(c) = &req.coords
+        && let Some(o) =
+            crate::body::placement::check_coords(&body, &map, &c.display().to_string(), &body_name)
+                .map_err(e)?
+    {
+        notes.push(format!(
+            "{}: node positions match the rigid modes; frame origin L0 placed at ({}, {}, {})",
+            c.display(),
+            crate::num::num(o[0]),
+            crate::num::num(o[1]),
+            crate::num::num(o[2])
+        ));
+    }
     let nodes = req.nodes.clone().unwrap_or_else(|| body.node_ids.clone());
     for id in &nodes {
         if body.node_index(*id).is_none() {
@@ -160,6 +172,16 @@ pub fn prepare_with(req: &PackRequest, fmax: Option<Fmax>) -> Result<Prepared, P
             body.nl() - kept
         ));
     }
+    match &req.name {
+        Some(n) => check_name(n).map_err(e)?,
+        None if stem.chars().count() > MAX_NAME => {
+            return Err(e(format!(
+                "{body_name}: the model name would be the file name's {} characters, more than {MAX_NAME}: give --name",
+                stem.chars().count()
+            )));
+        }
+        None => {}
+    }
     let all_exposed = req.nodes.is_none();
     let options = SceneOptions {
         name: req.name.clone().unwrap_or(stem),
@@ -198,6 +220,67 @@ pub fn prepare_with(req: &PackRequest, fmax: Option<Fmax>) -> Result<Prepared, P
         xml,
         notes,
     })
+}
+
+/// Longest `--name`: the model identifier names the library inside the archive and
+/// the C symbols' prefix; 64 characters keep every path well under tool limits.
+pub const MAX_NAME: usize = 64;
+
+/// Check a model name given by the user: 1 to [`MAX_NAME`] characters, a letter or `_`
+/// first, then letters, digits or `_`, so it is usable unchanged as a file name and a
+/// C identifier (the FMI modelIdentifier).
+pub fn check_name(name: &str) -> Result<(), String> {
+    let shown = if name.chars().count() > 40 {
+        format!(
+            "'{}...' ({} characters)",
+            name.chars().take(40).collect::<String>(),
+            name.chars().count()
+        )
+    } else {
+        format!("'{name}'")
+    };
+    if name.is_empty() || name.len() > MAX_NAME {
+        return Err(format!(
+            "--name: expected 1 to {MAX_NAME} characters, found {shown}"
+        ));
+    }
+    if let Some(c) = name
+        .chars()
+        .find(|c| !(c.is_ascii_alphanumeric() || *c == '_'))
+    {
+        return Err(format!(
+            "--name: expected letters, digits and '_' only (a file name and a C identifier), found {c:?} in {shown}"
+        ));
+    }
+    if name.starts_with(|c: char| c.is_ascii_digit()) {
+        return Err(format!(
+            "--name: expected a letter or '_' first (a C identifier), found {shown}"
+        ));
+    }
+    Ok(())
+}
+
+/// Refuse to write `out` over one of the `inputs` (`(what, path)`): the same file by
+/// device and inode, so a link or a `./` spelling is caught too. An `out` that does not
+/// exist yet is no input.
+pub fn refuse_overwrite(out: &Path, inputs: &[(&str, &Path)]) -> Result<(), PackError> {
+    use std::os::unix::fs::MetadataExt;
+    let Ok(o) = std::fs::metadata(out) else {
+        return Ok(());
+    };
+    for (what, p) in inputs {
+        if let Ok(m) = std::fs::metadata(p)
+            && m.dev() == o.dev()
+            && m.ino() == o.ino()
+        {
+            return Err(PackError(format!(
+                "-o {}: is the same file as the {what} {}: refusing to overwrite an input; choose another output name",
+                out.display(),
+                p.display()
+            )));
+        }
+    }
+    Ok(())
 }
 
 /// Find the FMU library: `explicit`, else `$FXBODY_LIB`, else `libfxbody.so` next to the
@@ -291,6 +374,11 @@ pub fn pack_with(
     lib: &Path,
     out: &Path,
 ) -> Result<Prepared, PackError> {
+    let mut inputs: Vec<(&str, &Path)> = vec![("body file", &req.body), ("library", lib)];
+    if let Some(c) = &req.coords {
+        inputs.push(("coordinate file", c));
+    }
+    refuse_overwrite(out, &inputs)?;
     let p = prepare_with(req, fmax)?;
     let lib_bytes = std::fs::read(lib)
         .map_err(|err| PackError(format!("{}: cannot read the library: {err}", lib.display())))?;

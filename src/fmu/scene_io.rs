@@ -109,29 +109,11 @@ pub fn coords_csv(coords: &[(i64, [f64; 3])]) -> String {
     s
 }
 
-/// Local coordinates of every node from the rigid modes of a free body: mode `3(j-1)+c`
-/// carries `X_j` on translation component `c` (FORMULATION.md section 1), so modes 1, 4
-/// and 7 give X, Y, Z on the x row. Global position `P0 (X, Y, Z)` with L0 at the
-/// origin, since the file does not store where L0 is. `None` for a blocked body.
+/// Global coordinates of every node of a free body from its rigid modes, with the frame
+/// origin L0 at (0, 0, 0) ([`Body::rigid_mode_positions`]); `None` for a blocked body.
 pub fn coords_from_rigid_modes(body: &Body) -> Option<Vec<(i64, [f64; 3])>> {
-    if body.nr() < 12 {
-        return None;
-    }
-    Some(
-        body.node_ids
-            .iter()
-            .enumerate()
-            .map(|(n, &id)| {
-                let local = nalgebra::Vector3::new(
-                    body.phi_r[(6 * n, 0)],
-                    body.phi_r[(6 * n, 3)],
-                    body.phi_r[(6 * n, 6)],
-                );
-                let g = body.p0 * local;
-                (id, [g[0], g[1], g[2]])
-            })
-            .collect(),
-    )
+    let x = body.rigid_mode_positions()?;
+    Some(body.node_ids.iter().copied().zip(x).collect())
 }
 
 /// Everything an FMU instance reads from its resources folder.
@@ -148,7 +130,7 @@ pub struct Resources {
 pub fn load_resources(dir: &Path) -> Result<Resources, String> {
     let read = |name: &str| {
         let p = dir.join(name);
-        std::fs::read(&p).map_err(|e| format!("cannot read {}: {e}", p.display()))
+        fxb::input::read_regular(&p).map_err(|e| format!("cannot read {}: {e}", p.display()))
     };
     let body_bytes = read(BODY_FILE)?;
     let coords_bytes = read(COORDS_FILE)?;
@@ -162,7 +144,14 @@ pub fn load_resources(dir: &Path) -> Result<Resources, String> {
     let body = Body::from_fxb(&file, &body_path).map_err(|e| e.to_string())?;
     let xyz = coords::parse_csv(&coords_bytes, &dir.join(COORDS_FILE).display().to_string())
         .map_err(|e| e.to_string())?;
-    let scene = make_scene(body, &coords::to_map(&xyz), &options, &body_path)?;
+    let map = coords::to_map(&xyz);
+    crate::body::placement::check_coords(
+        &body,
+        &map,
+        &dir.join(COORDS_FILE).display().to_string(),
+        &body_path,
+    )?;
+    let scene = make_scene(body, &map, &options, &body_path)?;
     Ok(Resources {
         scene,
         guid: guid(&body_bytes, &coords_bytes, &options_text),

@@ -86,7 +86,7 @@ pub type Coords = Vec<(i64, [f64; 3])>;
 /// Read node coordinates: CSV when the name ends in `.csv`, a `/NODE` deck otherwise.
 pub fn read_coords(path: &Path) -> Result<Coords, CoordsError> {
     let name = path.display().to_string();
-    let bytes = std::fs::read(path).map_err(|source| CoordsError::Io {
+    let bytes = super::input::read_regular(path).map_err(|source| CoordsError::Io {
         file: name.clone(),
         source,
     })?;

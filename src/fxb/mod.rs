@@ -15,6 +15,7 @@ use std::path::Path;
 pub mod coords;
 mod error;
 pub mod fields;
+pub mod input;
 mod reader;
 mod writer;
 
@@ -25,12 +26,18 @@ use crate::body::{Body, BodyError};
 
 /// Read and parse a `.fxb` file; the file name in errors is the path as given.
 pub fn read_path(path: &Path) -> Result<FxbFile, FxbError> {
-    let name = path.display().to_string();
-    let bytes = std::fs::read(path).map_err(|source| FxbError::Io {
-        file: name.clone(),
+    let bytes = read_bytes(path)?;
+    parse(&bytes, &path.display().to_string())
+}
+
+/// The bytes of a `.fxb` file, checked before they are read whole
+/// ([`input::read_fxb_bytes`]: a regular file, not compressed, no larger than its header
+/// can need). Every command reads its body file through here.
+pub fn read_bytes(path: &Path) -> Result<Vec<u8>, FxbError> {
+    input::read_fxb_bytes(path).map_err(|source| FxbError::Io {
+        file: path.display().to_string(),
         source,
-    })?;
-    parse(&bytes, &name)
+    })
 }
 
 /// Parse the text of a `.fxb` file (a `&str` or raw bytes). `file_name` is only used in
@@ -40,6 +47,15 @@ pub fn parse(text: impl AsRef<[u8]>, file_name: &str) -> Result<FxbFile, FxbErro
     // A byte-order mark, as some Windows editors write, is not part of line 1.
     let text = text.as_ref();
     let text = text.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(text);
+    if let Some(what) = input::compressed_kind(text) {
+        return Err(FxbError::Io {
+            file: file_name.into(),
+            source: std::io::Error::new(
+                std::io::ErrorKind::InvalidInput,
+                format!("this is {what}"),
+            ),
+        });
+    }
     reader::parse_bytes(text, file_name)
 }
 

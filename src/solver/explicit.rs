@@ -17,7 +17,7 @@
 //!
 //! A communication step h is cut into `n = ceil(h / (dt_factor dt_fx))` equal internal
 //! steps that land exactly on its end, dt_fx being the stable step of the largest
-//! eigenfrequency of (K_L, m_L) with the stiffness damping (`body::stable_step`).
+//! eigenfrequency of (K_L, m_L) with the stiffness damping (`Body::explicit_stable_step`, which `fxbody info` reports).
 //! `Options::subcycle = false` takes one internal step of size h (a test switch: it is
 //! unstable past dt_fx).
 //!
@@ -37,7 +37,6 @@ use nalgebra::{DMatrix, DVector};
 use super::dense::bilinear;
 use super::nodes::{Exposed, check_state};
 use super::{Frame, Method, Options, Solver, SolverError, State};
-use crate::body::stable_step;
 use crate::scene::Scene;
 
 /// Internal steps beyond this count in one call are refused (a step that long is a
@@ -80,7 +79,6 @@ impl Explicit {
         let nl = body.nl();
         let io = Exposed::new(scene, &DMatrix::identity(nl, nl))?;
         let (ra, rb) = body.damping.map_or((0.0, 0.0), |r| (r.alpha, r.beta));
-        let fmax = body.frequencies_hz.last().copied().unwrap_or(0.0);
         Ok(Explicit {
             time: 0.0,
             io,
@@ -88,7 +86,7 @@ impl Explicit {
             k: body.k_l.clone(),
             ra,
             rb,
-            dt_max: opts.dt_factor * stable_step(fmax, rb),
+            dt_max: opts.dt_factor * body.explicit_stable_step(),
             subcycle: opts.subcycle,
             dt1: 0.0,
             q: DVector::zeros(nl),

@@ -4,7 +4,7 @@
 use std::fmt::Write;
 use std::path::PathBuf;
 
-use fxbody::body::{Body, stable_step};
+use fxbody::body::Body;
 use fxbody::fxb;
 
 /// Arguments of `info`.
@@ -36,13 +36,13 @@ pub fn run(args: &InfoArgs) -> Result<(), String> {
     let file = fxb::read_path(&args.file).map_err(|e| e.to_string())?;
     let body =
         Body::from_fxb(&file, &args.file.display().to_string()).map_err(|e| e.to_string())?;
-    let beta = body.damping.map_or(0.0, |d| d.beta);
     let info = Info {
         nbmod: file.nbmod,
         idamp: file.idamp,
-        freq_max_hz: body.frequencies_hz.last().copied().unwrap_or(0.0),
-        // The reference scheme's step comes from the stored Freq, as Radioss uses it.
-        dt_stab_s: stable_step(body.freq_file, beta),
+        freq_max_hz: body.freq_max_hz(),
+        // The step the explicit solvers really use: from the largest computed frequency
+        // (the stored Freq is printed beside it, and may be wrong).
+        dt_stab_s: body.explicit_stable_step(),
         mass: body.total_mass(),
         body,
     };
@@ -150,6 +150,12 @@ fn text(i: &Info, path: &std::path::Path) -> String {
         }
     );
     let _ = writeln!(o, "node IDs: {}", abbreviated_ids(&b.node_ids));
+    if !b.iblo {
+        o.push_str(
+            "node positions: fixed relative to the frame origin L0 by the rigid modes; \
+             `pack` without --coords puts L0 at (0, 0, 0), a --coords file only places L0\n",
+        );
+    }
     o.push_str("eigenfrequencies of (K_L, m_L), Hz:");
     for (k, v) in b.frequencies_hz.iter().enumerate() {
         if k % 8 == 0 {
@@ -174,7 +180,7 @@ fn text(i: &Info, path: &std::path::Path) -> String {
     }
     let _ = writeln!(
         o,
-        "stable step of the explicit scheme (from stored Freq): {} s",
+        "stable step of the explicit scheme (from the largest computed frequency, as the solvers use it): {} s",
         significant(i.dt_stab_s, 7)
     );
     match i.mass {

@@ -4,7 +4,7 @@
 
 use std::path::PathBuf;
 
-use fxbody::fmu::pack::{Fmax, PackRequest, find_library, pack_with};
+use fxbody::fmu::pack::{Fmax, PackRequest, find_library, pack_with, refuse_overwrite};
 
 /// Arguments of `pack`.
 #[derive(Debug, clap::Args)]
@@ -46,6 +46,9 @@ pub struct PackArgs {
 /// Run `pack`: a one-line summary on stdout, or the error message.
 pub fn run(args: &PackArgs) -> Result<(), String> {
     let lib = find_library(args.lib.as_deref()).map_err(|e| e.to_string())?;
+    if let Some(p) = &args.nodes_file {
+        refuse_overwrite(&args.output, &[("nodes file", p)]).map_err(|e| e.to_string())?;
+    }
     let nodes = match &args.nodes_file {
         Some(p) => Some(read_nodes_file(p)?),
         None => args.nodes.clone(),
@@ -91,8 +94,10 @@ pub fn run(args: &PackArgs) -> Result<(), String> {
 /// Node IDs from a `--nodes-file`: one per line or comma-separated (blanks also
 /// separate), `#` starts a comment. Errors name the file and line.
 pub fn read_nodes_file(path: &std::path::Path) -> Result<Vec<i64>, String> {
-    let text = std::fs::read_to_string(path)
+    let bytes = fxbody::fxb::input::read_regular(path)
         .map_err(|e| format!("--nodes-file {}: cannot read: {e}", path.display()))?;
+    let text = String::from_utf8(bytes)
+        .map_err(|_| format!("--nodes-file {}: not UTF-8 text", path.display()))?;
     parse_nodes(&text, &path.display().to_string())
 }
 

@@ -98,8 +98,9 @@ fn info_json_on_a_damped_blocked_body() {
     }
     let fmax: f64 = get(&f, "freq_max_hz").parse().unwrap();
     assert!((fmax - want[1]).abs() < 1e-12 * want[1]);
-    // beta = 1e-4 from block 4, omega from the stored Freq.
-    let (beta, w) = (1.0e-4, 2.0 * PI * freq);
+    // beta = 1e-4 from block 4, omega from the largest computed frequency (issue 13:
+    // the step the solvers use, not the stored Freq's).
+    let (beta, w) = (1.0e-4, 2.0 * PI * want[1]);
     let dt_want =
         ((((beta * w) * (beta * w) + 4.0).sqrt() - beta * w) / w).min(2.0 / (beta * w * w));
     let dt: f64 = get(&f, "dt_stab_s").parse().unwrap();
@@ -118,8 +119,11 @@ fn info_json_on_a_free_body() {
     // Point masses 1 + 2 + 1.5 + 0.5 kg (tests/data/make_data.py).
     let mass: f64 = get(&f, "mass").parse().unwrap();
     assert!((mass - 5.0).abs() < 1e-8, "{mass}");
+    // Undamped: 2/omega of the largest computed frequency (stored Freq 12.5 Hz).
+    let fmax: f64 = get(&f, "freq_max_hz").parse().unwrap();
+    assert!((fmax - 12.5).abs() < 1e-6, "{fmax}");
     let dt: f64 = get(&f, "dt_stab_s").parse().unwrap();
-    assert!((dt - 1.0 / (PI * 12.5)).abs() < 1e-15);
+    assert!((dt - 1.0 / (PI * fmax)).abs() < 1e-15);
     assert_eq!(get(&f, "node_ids"), "[11, 12, 13, 14]");
     assert_eq!(get(&f, "irot"), "1");
     assert_eq!(get(&f, "iblo"), "0");
@@ -234,4 +238,23 @@ fn info_agrees_with_the_fixture_references() {
         checked += 1;
     }
     println!("fixtures checked: {checked}");
+}
+
+/// Issue 13 class 3: `info` on a body with a negative beta is refused naming block 4.
+#[test]
+fn info_refuses_negative_damping() {
+    let dir = std::env::temp_dir().join(format!("fxb_i13_neg_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut f = fxbody::fxb::read_path(Path::new("tests/data/fmt_dexp.fxb")).unwrap();
+    f.damping = Some((0.0, -1e-4));
+    let p = dir.join("neg.fxb");
+    std::fs::write(&p, fxbody::fxb::write(&f)).unwrap();
+    let out = run(&["info", p.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("block 4 (Rayleigh damping): beta must be >= 0, found beta = -0.0001"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
 }

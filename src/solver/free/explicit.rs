@@ -51,7 +51,6 @@ use super::{
     Loads, MAX_FRAME_ERROR, Model, SPIN_STEP, frame_error, frame_invalid, frame_omega, point_vec,
     spin_warning,
 };
-use crate::body::stable_step;
 use crate::scene::Scene;
 use crate::solver::nodes::check_state;
 use crate::solver::{Frame, MAX_INTERNAL_STEPS, Method, Options, Solver, SolverError, State};
@@ -117,7 +116,8 @@ impl Explicit {
     pub fn new(scene: &Scene, opts: &Options) -> Result<Explicit, SolverError> {
         let m = Model::new(scene)?;
         let (nr, nl, nq) = (m.nr, m.nl, m.nq());
-        let dt_fx = stable_step(m.freq_max, m.ray_b);
+        // The same function `fxbody info` reports (one definition of the stable step).
+        let dt_fx = scene.body.explicit_stable_step();
         let mut v = DVector::zeros(nq);
         m.initial_velocity(scene.v0, scene.w0, &mut v);
         let w = Work {

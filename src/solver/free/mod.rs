@@ -40,7 +40,8 @@ pub(crate) use validity::{
 };
 
 /// Global initial coordinates of every node of a free body that comes without a node
-/// deck, derived from its rigid modes.
+/// deck, derived from its rigid modes (kept for callers; the one definition is
+/// [`Body::rigid_mode_positions`]).
 ///
 /// Rigid mode 1 is `X e_1` on the translation rows, mode 4 is `Y e_1` and mode 7 is
 /// `Z e_1` (FORMULATION.md section 1), so the x-translation rows of modes 1, 4 and 7
@@ -49,17 +50,7 @@ pub(crate) use validity::{
 /// fixes the true placement instead. Returns an empty list for a blocked body (no rigid
 /// modes).
 pub fn coords_from_rigid_modes(body: &Body) -> Vec<[f64; 3]> {
-    if body.nr() < 12 {
-        return Vec::new();
-    }
-    (0..body.nnodes())
-        .map(|n| {
-            let r = 6 * n;
-            let local = Vector3::new(body.phi_r[(r, 0)], body.phi_r[(r, 3)], body.phi_r[(r, 6)]);
-            let x = body.p0 * local;
-            [x[0], x[1], x[2]]
-        })
-        .collect()
+    body.rigid_mode_positions().unwrap_or_default()
 }
 
 /// The six distance constraints: frame points (a, b) (0 = L0, j = Lj) and the target
@@ -237,8 +228,6 @@ pub(crate) struct Model {
     pub s_grav: DVector<f64>,
     /// `G_R = M_R s`.
     pub g_r: DVector<f64>,
-    /// Largest frequency of (K_L, m_L), Hz.
-    pub freq_max: f64,
     /// Circular frequency of the first (lowest non-zero) local mode, rad/s; infinite
     /// without local modes.
     pub omega1: f64,
@@ -303,7 +292,6 @@ impl Model {
             }
         }
         let g_r = &body.m_r * &s_grav;
-        let freq_max = body.frequencies_hz.iter().cloned().fold(0.0, f64::max);
         let omega1 = body
             .frequencies_hz
             .iter()
@@ -344,7 +332,6 @@ impl Model {
             x0,
             s_grav,
             g_r,
-            freq_max,
             omega1,
             mass_scale,
         })
