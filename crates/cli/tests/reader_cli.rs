@@ -245,7 +245,10 @@ fn info_agrees_with_the_fixture_references() {
 fn info_refuses_negative_damping() {
     let dir = std::env::temp_dir().join(format!("fxb_i13_neg_{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let mut f = fxbody::fxb::read_path(Path::new("tests/data/fmt_dexp.fxb")).unwrap();
+    let mut f = fxbody::fxb::read_path(
+        &Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join("tests/data/fmt_dexp.fxb"),
+    )
+    .unwrap();
     f.damping = Some((0.0, -1e-4));
     let p = dir.join("neg.fxb");
     std::fs::write(&p, fxbody::fxb::write(&f)).unwrap();
