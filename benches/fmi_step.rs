@@ -54,7 +54,7 @@ fn main() {
         ..PackRequest::default()
     };
     let p = pack(&req, &lib, &fmu).unwrap();
-    for (name, data) in fxbody::fmu::zip::read(&std::fs::read(&fmu).unwrap()).unwrap() {
+    for (name, data) in fxbody_host::zip::read(&std::fs::read(&fmu).unwrap()).unwrap() {
         let path = tmp.join(&name);
         std::fs::create_dir_all(path.parent().unwrap()).unwrap();
         std::fs::write(path, data).unwrap();
@@ -87,7 +87,7 @@ fn main() {
     for _ in 0..3 {
         let out = Command::new(&exe)
             .arg(tmp.join("binaries/linux64/bench.so"))
-            .arg(fxbody::fmi::host::file_uri(&tmp.join("resources")))
+            .arg(fxbody_host::file_uri(&tmp.join("resources")))
             .arg(&p.guid)
             .args([vr("node_121.fy"), vr("node_121.y")])
             .args([

@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
-# The whole test suite: Rust (unit, integration, doc tests) and Python (fixture
-# generator checks, fmpy tests). Creates ./.venv with requirements-test.txt on first use.
+# The whole test suite: formatting and lints (the workspace's [lints]: unsafe only at the
+# FMI boundary and in the host, every unsafe block with a SAFETY comment, every public
+# item documented), Rust (unit, integration, doc tests of every package) and Python
+# (fixture generator checks, fmpy tests). Creates ./.venv with requirements-test.txt on first use.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -11,6 +13,9 @@ if [ ! -x .venv/bin/python ] || ! cmp -s requirements-test.txt .venv/.requiremen
 fi
 export FXBODY_PYTHON="$PWD/.venv/bin/python"
 
-cargo build --release
-cargo test --release
+cargo fmt --all --check
+# --release shares the dependencies' build with the tests below.
+cargo clippy --release --workspace --all-targets -- -D warnings
+cargo build --release --workspace
+cargo test --release --workspace
 .venv/bin/python -m pytest -q tests/python fixtures

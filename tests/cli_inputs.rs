@@ -8,7 +8,7 @@ use std::process::{Command, Output};
 use std::time::{Duration, Instant};
 
 fn run(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_fxbody"))
+    Command::new(fxbody_host::workspace_binary("fxbody"))
         .args(args)
         .current_dir(env!("CARGO_MANIFEST_DIR"))
         .output()

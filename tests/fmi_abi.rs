@@ -1,12 +1,12 @@
-//! The exports driven through `dlopen` by the crate's own host (src/fmi/host.rs): every
+//! The exports driven through `dlopen` by the workspace's FMI importer (crates/host): every
 //! form of resource URI, recovery from the Error state by fmi2SetFMUstate, saved states
 //! from before initialisation, and the logged reasons. References: a second run of the
 //! same FMU, which must match bit for bit.
 
 use std::path::{Path, PathBuf};
 
-use fxbody::fmi::host::{FmuLibrary, Instance, file_uri};
 use fxbody::fmu::pack::{PackRequest, Prepared, find_library, pack};
+use fxbody_host::{FmuLibrary, Instance, file_uri};
 
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -24,7 +24,7 @@ fn packed(dir: &Path) -> (Prepared, PathBuf) {
         ..PackRequest::default()
     };
     let p = pack(&req, &lib, &fmu).unwrap();
-    for (name, data) in fxbody::fmu::zip::read(&std::fs::read(&fmu).unwrap()).unwrap() {
+    for (name, data) in fxbody_host::zip::read(&std::fs::read(&fmu).unwrap()).unwrap() {
         let path = dir.join(&name);
         std::fs::create_dir_all(path.parent().unwrap()).unwrap();
         std::fs::write(path, data).unwrap();

@@ -30,7 +30,7 @@ fn c_master_matches_the_rust_solver() {
         ..PackRequest::default()
     };
     let p = pack(&req, &lib, &fmu).unwrap();
-    for (name, data) in fxbody::fmu::zip::read(&std::fs::read(&fmu).unwrap()).unwrap() {
+    for (name, data) in fxbody_host::zip::read(&std::fs::read(&fmu).unwrap()).unwrap() {
         let path = unz.join(&name);
         std::fs::create_dir_all(path.parent().unwrap()).unwrap();
         std::fs::write(path, data).unwrap();
@@ -50,7 +50,7 @@ fn c_master_matches_the_rust_solver() {
     let (h, steps, force) = (2e-4, 1000, 1.0);
     let out = Command::new(&exe)
         .arg(&so)
-        .arg(fxbody::fmi::host::file_uri(&unz.join("resources")))
+        .arg(fxbody_host::file_uri(&unz.join("resources")))
         .arg(&p.guid)
         .args([
             vr("node_121.fy"),

@@ -55,7 +55,7 @@ fn same_input_same_bytes_and_runtime_agrees_with_the_description() {
         "byte-for-byte reproducible"
     );
     // Unpack the resources and rebuild the model the way fmi2Instantiate does.
-    for (name, data) in fxbody::fmu::zip::read(&za).unwrap() {
+    for (name, data) in fxbody_host::zip::read(&za).unwrap() {
         if let Some(rest) = name.strip_prefix("resources/") {
             std::fs::write(tmp.join("resources").join(rest), data).unwrap();
         }
@@ -216,8 +216,13 @@ fn pack_errors_are_clear() {
 
 #[test]
 fn pack_command_reports_errors_with_exit_code_2() {
-    let exe = env!("CARGO_BIN_EXE_fxbody");
-    let run = |args: &[&str]| std::process::Command::new(exe).args(args).output().unwrap();
+    let exe = fxbody_host::workspace_binary("fxbody");
+    let run = |args: &[&str]| {
+        std::process::Command::new(&exe)
+            .args(args)
+            .output()
+            .unwrap()
+    };
     let body = root().join("fixtures/cantilever.fxb");
     let deck = root().join("fixtures/cantilever.nodes.rad");
     let (b, d) = (body.to_str().unwrap(), deck.to_str().unwrap());

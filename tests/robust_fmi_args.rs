@@ -8,6 +8,13 @@
 //! complete state (serialised snapshot) byte for byte unchanged; allowed to go on, the
 //! next steps equal those of an undisturbed twin bit for bit; and the FMI way out,
 //! fmi2SetFMUstate, gives the same bits. Each test prints its case counts.
+
+// Raw FFI: this test calls the exported fmi2* functions directly, as a C master does,
+// which is `unsafe`; the workspace denies `unsafe_code` outside the FMI boundary.
+#![allow(unsafe_code)]
+// The tables of bad-argument cases hold dozens of one-line unsafe closures under one
+// `// SAFETY (all closures):` comment each, which clippy cannot attribute to them.
+#![allow(clippy::undocumented_unsafe_blocks)]
 #![cfg(all(
     target_os = "linux",
     any(target_arch = "x86_64", target_arch = "aarch64")

@@ -13,6 +13,13 @@
 //! FMI 2.0 standard's co-simulation table (section 4.2.4), independently of
 //! src/fmi/state.rs; in Error a call is also judged by the state before the error, whose
 //! values the model holds.
+
+// Raw FFI: this test calls the exported fmi2* functions directly, as a C master does,
+// which is `unsafe`; the workspace denies `unsafe_code` outside the FMI boundary.
+#![allow(unsafe_code)]
+// The table of calls holds one unsafe closure per FMI function under one
+// `// SAFETY (every closure below):` comment, which clippy cannot attribute to them.
+#![allow(clippy::undocumented_unsafe_blocks)]
 #![cfg(all(
     target_os = "linux",
     any(target_arch = "x86_64", target_arch = "aarch64")

@@ -2,6 +2,10 @@
 //! another, which threads must reproduce bit for bit; first through the crate's exports,
 //! then through libraries loaded with `dlopen` (the same file, and a copy that is a
 //! separate library), loaded and unloaded while other instances run and are freed.
+
+// Raw FFI: this test calls the exported fmi2* functions directly, as a C master does,
+// which is `unsafe`; the workspace denies `unsafe_code` outside the FMI boundary.
+#![allow(unsafe_code)]
 #![cfg(all(
     target_os = "linux",
     any(target_arch = "x86_64", target_arch = "aarch64")
@@ -13,9 +17,9 @@ use std::path::Path;
 use std::sync::Barrier;
 use std::thread;
 
-use fxbody::fmi::host::FmuLibrary;
 use fxbody::fmi::types::fmi2OK;
 use fxbody::fmi::values::fmi2SetInteger;
+use fxbody_host::FmuLibrary;
 use robust_common::{H, Packed, Slave, packed, same_bits};
 
 const THREADS: usize = 8;

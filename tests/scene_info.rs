@@ -22,7 +22,7 @@ fn cantilever_tip_share_of_the_first_bending_mode() {
     // Through the command (--json): the cumulative share at 121:Y after mode 2 (the
     // first y-bending mode, 10.03 Hz) is the Euler-Bernoulli 12/(beta_1 L)^4 = 0.970688
     // within 2e-4 (20 elements; the shape converges as h^4).
-    let run = Command::new(env!("CARGO_BIN_EXE_fxbody"))
+    let run = Command::new(fxbody_host::workspace_binary("fxbody"))
         .arg("info")
         .arg(fixture("cantilever.fxb"))
         .args(["--json", "--nodes", "121,111"])

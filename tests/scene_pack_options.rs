@@ -64,7 +64,7 @@ fn fmax_auto_keeps_the_modes_up_to_one_over_the_default_step() {
     );
     // The same choice on the command line.
     let out = root().join("target/scene_pack_options_auto.fmu");
-    let o = std::process::Command::new(env!("CARGO_BIN_EXE_fxbody"))
+    let o = std::process::Command::new(fxbody_host::workspace_binary("fxbody"))
         .args(["pack", "fixtures/cantilever.fxb", "--coords"])
         .arg("fixtures/cantilever.nodes.rad")
         .args(["--nodes", "121", "--fmax", "auto", "--lib"])

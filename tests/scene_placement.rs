@@ -165,7 +165,7 @@ fn free_body_without_coords_has_its_origin_at_zero_and_info_says_so() {
             assert!((p.scene.x0[k][c] - want[n].1[c]).abs() < 1e-12);
         }
     }
-    let out = Command::new(env!("CARGO_BIN_EXE_fxbody"))
+    let out = Command::new(fxbody_host::workspace_binary("fxbody"))
         .args(["info", data(BODY).to_str().unwrap()])
         .output()
         .unwrap();

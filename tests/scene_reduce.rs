@@ -33,7 +33,7 @@ fn reduce(name: &str, nodes: &str, fmax: f64) -> (Body, String) {
         "fxbody_scene_reduce_{}_{serial}_{name}.fxb",
         std::process::id()
     ));
-    let run = Command::new(env!("CARGO_BIN_EXE_fxbody"))
+    let run = Command::new(fxbody_host::workspace_binary("fxbody"))
         .arg("reduce")
         .arg(fixture(&format!("{name}.fxb")))
         .arg("-o")

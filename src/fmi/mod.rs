@@ -1,15 +1,28 @@
 //! The FMI 2.0 co-simulation C ABI: types, the call-sequence state machine, logging,
-//! the panic barrier and the 34 exports; and the host side (loading a packed FMU's
-//! library) used by `fxbody demo` and the tests. The only module with `unsafe` and raw
-//! pointers.
+//! the panic barrier and the 34 exports. The only module of the product with `unsafe`
+//! and raw pointers (the workspace denies `unsafe_code` everywhere else). The importer
+//! side, loading a packed FMU's library, is the `fxbody-host` package (crates/host).
+//!
+//! Public to a library user: the C types ([`types`]) and the exported `fmi2*` functions
+//! ([`exports`], [`values`], [`fmu_state`]), which are the C ABI itself, callable from
+//! Rust with the same contracts as from C (include/fxbody.h). The exports are in the
+//! cdylib's symbol table whatever the visibility (`#[unsafe(no_mangle)]`).
+//! [`state`] and [`instance`] are internals, public only so that the robustness tests
+//! (tests/robust_*.rs) can check the state machine and the instance behind a handle; they
+//! are hidden from the documentation and carry no stability promise.
+
+// The C ABI: raw pointers from the importer, `extern "C"` exports, the panic barrier.
+// Every block says why it holds (clippy::undocumented_unsafe_blocks).
+#![allow(unsafe_code)]
 
 pub mod exports;
 pub mod fmu_state;
-pub mod host;
+#[doc(hidden)]
 pub mod instance;
+#[doc(hidden)]
 pub mod state;
 pub mod types;
-pub mod uri;
+mod uri;
 pub mod values;
 
 /// The C header cbindgen generated for this build (build.rs). The committed

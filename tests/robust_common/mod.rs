@@ -3,6 +3,10 @@
 //! `extern "C"` exports directly, so that a test can pass what a careless master passes
 //! (NULL pointers, wrong lengths, calls out of sequence) and look inside the instance
 //! afterwards to check nothing changed.
+
+// These helpers call the exported fmi2* functions directly with raw pointers (what a C
+// master does), which is `unsafe`; the workspace denies `unsafe_code` elsewhere.
+#![allow(unsafe_code)]
 #![allow(dead_code)]
 
 use std::collections::BTreeMap;
@@ -88,12 +92,12 @@ fn packed_full(tag: &str, body: &str, node: i64, model: Option<&str>) -> Packed 
         ..PackRequest::default()
     };
     let p = pack(&req, &lib, &fmu).unwrap();
-    for (name, data) in fxbody::fmu::zip::read(&std::fs::read(&fmu).unwrap()).unwrap() {
+    for (name, data) in fxbody_host::zip::read(&std::fs::read(&fmu).unwrap()).unwrap() {
         let path = dir.join(&name);
         std::fs::create_dir_all(path.parent().unwrap()).unwrap();
         std::fs::write(path, data).unwrap();
     }
-    let uri = fxbody::fmi::host::file_uri(&dir.join("resources"));
+    let uri = fxbody_host::file_uri(&dir.join("resources"));
     let so = dir.join(format!("binaries/linux64/{}.so", model.unwrap_or(body)));
     Packed { p, dir, uri, so }
 }
@@ -286,14 +290,14 @@ impl Slave {
     /// Serialise a live state.
     pub fn serialize(&self, s: fmi2FMUstate) -> Vec<u8> {
         let mut n = 0usize;
-        // SAFETY: live state, writable size.
         assert_eq!(
+            // SAFETY: live state, writable size.
             unsafe { x::fmi2SerializedFMUstateSize(self.c, s, &mut n) },
             fmi2OK
         );
         let mut buf = vec![0u8; n];
-        // SAFETY: `buf` holds `n` writable bytes.
         assert_eq!(
+            // SAFETY: `buf` holds `n` writable bytes.
             unsafe { x::fmi2SerializeFMUstate(self.c, s, buf.as_mut_ptr().cast(), n) },
             fmi2OK
         );

@@ -10,7 +10,7 @@ use fxbody::fxb::load_body;
 use fxbody::scene::Scene;
 use fxbody::solver::{Method, Options};
 
-use super::json::{self, Json};
+use serde_json::Value as Json;
 
 /// A method as the study names it: the solver method and its settings.
 #[derive(Debug, Clone, Copy)]
@@ -151,10 +151,10 @@ pub fn fixture(dir: &Path, name: &str) -> Result<(Scene, Json), String> {
     let body = load_body(&fxb).map_err(|e| format!("{}: {e}", fxb.display()))?;
     let refp = dir.join(format!("{name}.ref.json"));
     let text = std::fs::read_to_string(&refp).map_err(|e| format!("{}: {e}", refp.display()))?;
-    let j = json::parse(&text).map_err(|e| format!("{}: {e}", refp.display()))?;
+    let j = serde_json::from_str::<Json>(&text).map_err(|e| format!("{}: {e}", refp.display()))?;
     let tip = j
         .get("tip_node")
-        .and_then(Json::num)
+        .and_then(Json::as_f64)
         .ok_or_else(|| format!("{}: no tip_node", refp.display()))? as i64;
     let deck = dir.join(format!("{name}.nodes.rad"));
     let xyz = to_map(&read_coords(&deck).map_err(|e| format!("{}: {e}", deck.display()))?);
@@ -171,27 +171,24 @@ pub fn fixture(dir: &Path, name: &str) -> Result<(Scene, Json), String> {
 pub fn fe_response(j: &Json, name: &str) -> Result<(Reference, Load, f64), String> {
     let r = j
         .get("responses")
-        .map(Json::items)
-        .unwrap_or(&[])
-        .iter()
-        .find(|r| r.get("name").and_then(Json::str) == Some(name))
+        .and_then(Json::as_array)
+        .into_iter()
+        .flatten()
+        .find(|r| r.get("name").and_then(Json::as_str) == Some(name))
         .ok_or_else(|| format!("reference has no response {name}"))?;
-    let tip = j.get("tip_node").and_then(Json::num).unwrap_or(0.0) as i64;
-    let t = r
-        .get("t")
-        .and_then(Json::nums)
-        .ok_or("response without t")?;
+    let tip = j.get("tip_node").and_then(Json::as_f64).unwrap_or(0.0) as i64;
+    let t = r.get("t").and_then(nums).ok_or("response without t")?;
     let uy = r
         .get("nodes")
-        .and_then(|n| n.get(&tip.to_string()))
+        .and_then(|n| n.get(tip.to_string()))
         .and_then(|n| n.get("uy"))
-        .and_then(Json::nums)
+        .and_then(nums)
         .ok_or("response without the tip's uy")?;
     let amp = r
         .get("amplitude")
-        .and_then(Json::num)
+        .and_then(Json::as_f64)
         .ok_or("no amplitude")?;
-    let load = match r.get("duration").and_then(Json::num) {
+    let load = match r.get("duration").and_then(Json::as_f64) {
         Some(d) => Load::Pulse(amp, d),
         None => Load::Step(amp),
     };
@@ -203,6 +200,11 @@ pub fn fe_response(j: &Json, name: &str) -> Result<(Reference, Load, f64), Strin
         what: "full FE model, all modes (fixture ref.json)".into(),
     };
     Ok((reference, load, duration))
+}
+
+/// The numbers of a JSON array; `None` if it is not an array of numbers.
+pub fn nums(v: &Json) -> Option<Vec<f64>> {
+    v.as_array()?.iter().map(Json::as_f64).collect()
 }
 
 /// `base * 2^k` for k in `lo..=hi`.

@@ -1,7 +1,12 @@
-//! The `fxbody` command: a thin dispatcher over the library, one subcommand per file in
-//! `src/cli/`.
+//! The `fxbody` command: a thin dispatcher, one subcommand per module, over the library
+//! (`fxbody`), the FMI importer (`fxbody-host`, for `demo`) and the study
+//! (`fxbody-study`).
 
-mod cli;
+mod demo;
+mod info;
+mod info_modes;
+mod pack;
+mod reduce;
 
 use clap::{Parser, Subcommand};
 
@@ -16,25 +21,25 @@ struct Cli {
 #[derive(Debug, Subcommand)]
 enum Command {
     /// Show what a .fxb file holds: counts, flags, nodes, frequencies, stable step, mass.
-    Info(cli::info::InfoArgs),
+    Info(info::InfoArgs),
     /// Pack a .fxb file into an FMI 2.0 co-simulation FMU.
-    Pack(cli::pack::PackArgs),
+    Pack(pack::PackArgs),
     /// Write a smaller .fxb: only the chosen nodes, only the modes up to fmax.
-    Reduce(cli::reduce::ReduceArgs),
+    Reduce(reduce::ReduceArgs),
     /// The main job: pack the shipped cantilever, run a tip step load through the FMU's C ABI.
-    Demo(cli::demo::DemoArgs),
+    Demo(demo::DemoArgs),
     /// Speed against accuracy: every method over a range of steps, stability map, bound.
-    Study(cli::study::StudyArgs),
+    Study(fxbody_study::StudyArgs),
 }
 
 fn main() {
     let cli = Cli::parse();
     let result = match &cli.command {
-        Command::Info(args) => cli::info::run(args),
-        Command::Pack(args) => cli::pack::run(args),
-        Command::Reduce(args) => cli::reduce::run(args),
-        Command::Demo(args) => cli::demo::run(args),
-        Command::Study(args) => cli::study::run(args),
+        Command::Info(args) => info::run(args),
+        Command::Pack(args) => pack::run(args),
+        Command::Reduce(args) => reduce::run(args),
+        Command::Demo(args) => demo::run(args),
+        Command::Study(args) => fxbody_study::run(args),
     };
     if let Err(message) = result {
         eprintln!("fxbody: {message}");

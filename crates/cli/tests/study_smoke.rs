@@ -16,7 +16,7 @@ use std::process::Command;
 
 fn run_quick() -> PathBuf {
     let out = std::env::temp_dir().join(format!("fxbody_study_smoke_{}", std::process::id()));
-    let fixtures = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures");
+    let fixtures = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join("fixtures");
     let status = Command::new(env!("CARGO_BIN_EXE_fxbody"))
         .args(["study", "--quick", "--fixtures"])
         .arg(&fixtures)

@@ -1,4 +1,4 @@
-//! `fxbody study`: speed against accuracy (issue 8). For the standard scenes it runs every
+//! The study behind `fxbody study`: speed against accuracy (issue 8). For the standard scenes it runs every
 //! method over a range of communication steps, measures the error against the reference
 //! and the CPU time per simulated second, finds each method's largest stable step as a
 //! multiple of dt_fx, sweeps the mode count of the cantilever (truncation with residual
@@ -9,11 +9,6 @@
 
 mod bound;
 mod chart;
-// The demo's small JSON reader, compiled here too rather than made public from `demo`
-// (other branches still edit `demo`); only part of it is used here.
-#[allow(dead_code, clippy::duplicate_mod)]
-#[path = "../demo/json.rs"]
-mod json;
 mod modes;
 mod run;
 mod scenes;
@@ -87,7 +82,7 @@ fn build_cases(args: &StudyArgs) -> Result<Vec<Case>, String> {
         .get("frequencies_hz")
         .and_then(|f| f.get("euler_bernoulli_planes"))
         .and_then(|p| p.get("xy"))
-        .and_then(json::Json::nums)
+        .and_then(scenes::nums)
         .and_then(|v| v.first().copied())
         .unwrap_or(cant.body.frequencies_hz[0]);
     cases.push(Case {

@@ -1,13 +1,26 @@
-//! The host side: load a packed FMU's library with `dlopen` and call it through its C
-//! ABI, exactly as a master would. Used by `fxbody demo` and the tests, so that they
-//! exercise the real exports rather than the Rust functions behind them.
+//! An FMI 2.0 co-simulation importer: load a packed FMU's library with `dlopen` and call
+//! it through its C ABI, exactly as a master would; read the `.fmu` archive ([`zip`]);
+//! build the resource location URI ([`uri`]). Used by `fxbody demo`, the tests and the
+//! benches, so that they exercise the real exports rather than the Rust functions behind
+//! them. Never part of the FMU.
+//!
+//! The one module of this package with `unsafe`: every call through the loaded library
+//! is a foreign call whose contract the FMI 2.0 standard states.
 
-use std::ffi::{CString, c_char, c_int, c_void};
-use std::path::Path;
+// Calls through dlopen'ed function pointers cannot be safe Rust; each block says why it
+// holds (clippy::undocumented_unsafe_blocks).
+#![allow(unsafe_code)]
+
+pub mod fmi2;
+pub mod uri;
+pub mod zip;
+
+use std::ffi::{CStr, CString, c_char, c_int, c_void};
+use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
-use super::instance::{c_text, text_arg};
-use super::types::*;
+use fmi2::*;
+pub use uri::file_uri;
 
 type Instantiate = unsafe extern "C" fn(
     fmi2String,
@@ -161,16 +174,18 @@ impl FmuLibrary {
         debug: bool,
     ) -> Result<Instance<'_>, String> {
         let log = Box::new(Mutex::new(Vec::new()));
+        let env = Box::new(LogEnv { sink, log: &*log });
         let functions = fmi2CallbackFunctions {
-            logger: host_logger(),
-            allocateMemory: None,
-            freeMemory: None,
-            stepFinished: None,
-            componentEnvironment: (&*log as *const Mutex<Vec<String>>).cast_mut().cast(),
+            logger: Some(fxbody_host_logger),
+            allocateMemory: std::ptr::null(),
+            freeMemory: std::ptr::null(),
+            stepFinished: std::ptr::null(),
+            componentEnvironment: (&*env as *const LogEnv).cast_mut().cast(),
         };
         let (n, g, r) = (c_text(name), c_text(guid), c_text(resource_uri));
-        // SAFETY: valid C strings and callbacks for the call; the environment pointer
-        // (the boxed log) lives as long as the instance, which owns it.
+        // SAFETY: valid C strings and callbacks for the call; the environment (the boxed
+        // `LogEnv` and the log it points at) lives as long as the instance, which owns
+        // both.
         let c = unsafe {
             (self.f.instantiate)(
                 n.as_ptr(),
@@ -186,7 +201,12 @@ impl FmuLibrary {
             let msgs = log.lock().map(|m| m.join("; ")).unwrap_or_default();
             return Err(format!("fmi2Instantiate returned NULL: {msgs}"));
         }
-        Ok(Instance { lib: self, c, log })
+        Ok(Instance {
+            lib: self,
+            c,
+            log,
+            _env: env,
+        })
     }
 }
 
@@ -198,32 +218,46 @@ impl Drop for FmuLibrary {
     }
 }
 
-/// The host's logger: stores `"[category] text"` in the environment's log.
-///
-/// Stable Rust cannot define a C-variadic function. The FMU this host loads (ours)
-/// always calls the logger with the format "%s" and exactly one `char*` argument, and on
-/// the Linux x86-64 (System V) and AArch64 ABIs such a variadic call passes its six
-/// integer/pointer arguments in the same registers as a non-variadic call with six
-/// pointer parameters. So a six-argument function reads the message correctly there;
-/// elsewhere no logger is passed.
-extern "C" fn log_six(
-    env: *mut c_void,
-    _name: fmi2String,
+unsafe extern "C" {
+    /// The C-variadic logger of `logger.c`: formats the message with `vsnprintf` and
+    /// calls `LogEnv::sink` with the text.
+    fn fxbody_host_logger(
+        env: fmi2ComponentEnvironment,
+        name: fmi2String,
+        status: fmi2Status,
+        category: fmi2String,
+        fmt: fmi2String,
+        ...
+    );
+}
+
+/// What the host passes as the component environment: the layout `logger.c` reads
+/// (`fxbody_host_env`), a fixed-arity sink and the instance's log.
+#[repr(C)]
+struct LogEnv {
+    sink: extern "C" fn(*mut c_void, fmi2Status, *const c_char, *const c_char),
+    log: *const Mutex<Vec<String>>,
+}
+
+/// Stores `"[category] text"` in the log `data` points to.
+extern "C" fn sink(
+    data: *mut c_void,
     _status: fmi2Status,
-    category: fmi2String,
-    _fmt: fmi2String,
-    msg: *const c_char,
+    category: *const c_char,
+    text: *const c_char,
 ) {
-    if env.is_null() {
+    if data.is_null() {
         return;
     }
-    // SAFETY: `env` is the boxed Mutex<Vec<String>> of the instance being called.
-    let log = unsafe { &*env.cast::<Mutex<Vec<String>>>() };
-    // SAFETY: category and message are NUL-terminated strings for the call (or NULL).
+    // SAFETY: `data` is the `log` of a `LogEnv`, which points at the instance's boxed
+    // log; the instance owns both and outlives every call into the FMU.
+    let log = unsafe { &*data.cast::<Mutex<Vec<String>>>() };
+    // SAFETY: category and text are NULL or NUL-terminated strings for the call
+    // (logger.c passes its formatted buffer, the FMU its category).
     let (cat, text) = unsafe {
         (
             text_arg(category).unwrap_or_default(),
-            text_arg(msg).unwrap_or_default(),
+            text_arg(text).unwrap_or_default(),
         )
     };
     if let Ok(mut l) = log.lock() {
@@ -231,43 +265,21 @@ extern "C" fn log_six(
     }
 }
 
-fn host_logger() -> fmi2CallbackLogger {
-    #[cfg(all(
-        target_os = "linux",
-        any(target_arch = "x86_64", target_arch = "aarch64")
-    ))]
-    {
-        type Six = extern "C" fn(
-            *mut c_void,
-            fmi2String,
-            fmi2Status,
-            fmi2String,
-            fmi2String,
-            *const c_char,
-        );
-        // SAFETY: see `log_six`: on these ABIs the variadic call our FMU makes passes
-        // exactly the six arguments this function reads, in the same registers.
-        Some(unsafe {
-            std::mem::transmute::<
-                Six,
-                unsafe extern "C" fn(
-                    fmi2ComponentEnvironment,
-                    fmi2String,
-                    fmi2Status,
-                    fmi2String,
-                    fmi2String,
-                    ...
-                ),
-            >(log_six as Six)
-        })
+/// A C string from text, with any NUL byte replaced.
+fn c_text(s: &str) -> CString {
+    CString::new(s.replace('\0', "\u{fffd}")).unwrap_or_default()
+}
+
+/// Text of a C string; `None` for NULL.
+///
+/// # Safety
+/// `p` is NULL or a NUL-terminated string valid for the call.
+unsafe fn text_arg(p: *const c_char) -> Option<String> {
+    if p.is_null() {
+        return None;
     }
-    #[cfg(not(all(
-        target_os = "linux",
-        any(target_arch = "x86_64", target_arch = "aarch64")
-    )))]
-    {
-        None
-    }
+    // SAFETY: non-null and NUL-terminated by the caller's contract.
+    Some(unsafe { CStr::from_ptr(p) }.to_string_lossy().into_owned())
 }
 
 /// A live instance of a loaded FMU (freed on drop).
@@ -275,6 +287,8 @@ pub struct Instance<'a> {
     lib: &'a FmuLibrary,
     c: fmi2Component,
     log: Box<Mutex<Vec<String>>>,
+    /// The logger's environment, kept alive (and at a fixed address) with the instance.
+    _env: Box<LogEnv>,
 }
 
 /// A saved FMU state owned by the host (free it with [`Instance::free_state`]).
@@ -429,9 +443,9 @@ impl Instance<'_> {
     /// fmi2GetFMUstate (a new state).
     pub fn get_state(&self) -> Result<SavedState, String> {
         let mut s: fmi2FMUstate = std::ptr::null_mut();
-        // SAFETY: `s` is a writable NULL handle.
         check(
             "fmi2GetFMUstate",
+            // SAFETY: `s` is a writable NULL handle.
             unsafe { (self.lib.f.get_state)(self.c, &mut s) },
             &self.log,
         )?;
@@ -461,16 +475,16 @@ impl Instance<'_> {
     /// fmi2SerializedFMUstateSize + fmi2SerializeFMUstate.
     pub fn serialize(&self, s: &SavedState) -> Result<Vec<u8>, String> {
         let mut n = 0usize;
-        // SAFETY: `s` is live, `n` writable.
         check(
             "fmi2SerializedFMUstateSize",
+            // SAFETY: `s` is live, `n` writable.
             unsafe { (self.lib.f.state_size)(self.c, s.0, &mut n) },
             &self.log,
         )?;
         let mut buf = vec![0u8; n];
-        // SAFETY: `buf` holds `n` writable bytes.
         check(
             "fmi2SerializeFMUstate",
+            // SAFETY: `buf` holds `n` writable bytes.
             unsafe { (self.lib.f.serialize)(self.c, s.0, buf.as_mut_ptr().cast(), n) },
             &self.log,
         )?;
@@ -480,9 +494,9 @@ impl Instance<'_> {
     /// fmi2DeSerializeFMUstate into a new state.
     pub fn deserialize(&self, bytes: &[u8]) -> Result<SavedState, String> {
         let mut s: fmi2FMUstate = std::ptr::null_mut();
-        // SAFETY: `bytes` for the call, `s` a writable NULL handle.
         check(
             "fmi2DeSerializeFMUstate",
+            // SAFETY: `bytes` for the call, `s` a writable NULL handle.
             unsafe { (self.lib.f.deserialize)(self.c, bytes.as_ptr().cast(), bytes.len(), &mut s) },
             &self.log,
         )?;
@@ -497,16 +511,67 @@ impl Drop for Instance<'_> {
     }
 }
 
-/// The `file:` URI of a folder, percent-encoding every byte outside the unreserved set
-/// and `/` (so spaces and non-ASCII names survive).
-pub fn file_uri(dir: &Path) -> String {
-    let mut s = String::from("file://");
-    for &b in dir.as_os_str().as_encoded_bytes() {
-        if b.is_ascii_alphanumeric() || b"/-._~".contains(&b) {
-            s.push(b as char);
-        } else {
-            s.push_str(&format!("%{b:02X}"));
-        }
+/// The path of a binary of this workspace (`name`, e.g. `"fxbody"`) for a test or a
+/// bench: in the profile folder of the running executable (`target/release/deps/x` ->
+/// `target/release/fxbody`). `cargo test` and `cargo build` at the workspace root build it
+/// (crates/cli is a default member); `CARGO_BIN_EXE_*` covers only a package's own
+/// binaries, and the command lives in the cli package.
+pub fn workspace_binary(name: &str) -> PathBuf {
+    let exe = std::env::current_exe().expect("the running test knows its own path");
+    let mut dir = exe
+        .parent()
+        .expect("an executable lies in a folder")
+        .to_path_buf();
+    if dir.ends_with("deps") {
+        dir.pop();
     }
-    s
+    let path = dir.join(format!("{name}{}", std::env::consts::EXE_SUFFIX));
+    assert!(
+        path.is_file(),
+        "{} is missing: build the workspace first (cargo build --release)",
+        path.display()
+    );
+    path
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_c_logger_formats_printf_style_and_hands_the_text_to_the_log() {
+        let log = Mutex::new(Vec::new());
+        let env = LogEnv { sink, log: &log };
+        let env_ptr = (&env as *const LogEnv).cast_mut().cast();
+        // SAFETY: a valid environment for the call and NUL-terminated strings; the
+        // variadic arguments match the format (%s: char*, %d: int, %.3f: double).
+        unsafe {
+            fxbody_host_logger(
+                env_ptr,
+                c"inst".as_ptr(),
+                fmi2OK,
+                c"logStatusError".as_ptr(),
+                c"%s: %d of %.3f (100%%)".as_ptr(),
+                c"steps".as_ptr(),
+                7 as c_int,
+                2.5f64,
+            );
+        }
+        // A message longer than any fixed buffer comes through whole.
+        let long = c_text(&"x".repeat(5000));
+        // SAFETY: as above; one char* argument for "%s".
+        unsafe {
+            fxbody_host_logger(
+                env_ptr,
+                c"inst".as_ptr(),
+                fmi2OK,
+                c"cat".as_ptr(),
+                c"%s".as_ptr(),
+                long.as_ptr(),
+            );
+        }
+        let l = log.lock().unwrap();
+        assert_eq!(l[0], "[logStatusError] steps: 7 of 2.500 (100%)");
+        assert_eq!(l[1].len(), "[cat] ".len() + 5000);
+    }
 }

@@ -4,19 +4,17 @@
 //! finite-element reference, the cost per communication step, and writes a CSV and an
 //! SVG plot of the tip motion.
 
-mod json;
 mod svg;
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use fxbody::fmi::host::{FmuLibrary, file_uri};
 use fxbody::fmu::pack::{PackRequest, find_library, pack};
 use fxbody::fmu::scene_io::load_resources;
 use fxbody::solver::{self, Options};
-
-use json::Json;
+use fxbody_host::{FmuLibrary, file_uri};
+use serde_json::Value as Json;
 
 /// Arguments of `demo`.
 #[derive(Debug, clap::Args)]
@@ -41,45 +39,56 @@ struct Reference {
     static_uy: Option<f64>,
 }
 
+/// The numbers of a JSON array; `None` if it is not an array of numbers.
+fn nums(v: &Json) -> Option<Vec<f64>> {
+    v.as_array()?.iter().map(Json::as_f64).collect()
+}
+
 fn reference(path: &Path) -> Result<Reference, String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let j = json::parse(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+    let j = serde_json::from_str::<Json>(&text).map_err(|e| format!("{}: {e}", path.display()))?;
     let bad = |what: &str| format!("{}: missing or malformed {what}", path.display());
     let tip = j
         .get("tip_node")
-        .and_then(Json::num)
+        .and_then(Json::as_f64)
         .ok_or_else(|| bad("tip_node"))? as i64;
     let step = j
         .get("responses")
-        .map(Json::items)
-        .unwrap_or(&[])
-        .iter()
-        .find(|r| r.get("name").and_then(Json::str) == Some("step"))
+        .and_then(Json::as_array)
+        .into_iter()
+        .flatten()
+        .find(|r| r.get("name").and_then(Json::as_str) == Some("step"))
         .ok_or_else(|| bad("responses[name=step]"))?;
     let key = tip.to_string();
     let static_uy = j
         .get("static")
-        .map(Json::items)
-        .unwrap_or(&[])
-        .iter()
+        .and_then(Json::as_array)
+        .into_iter()
+        .flatten()
         .find_map(|s| {
-            (s.get("load_dof").and_then(Json::str) == Some("fy")
-                && s.get("load_node").and_then(Json::num) == Some(tip as f64))
-            .then(|| s.get("displacements")?.get(&key)?.nums()?.get(1).copied())
+            (s.get("load_dof").and_then(Json::as_str) == Some("fy")
+                && s.get("load_node").and_then(Json::as_f64) == Some(tip as f64))
+            .then(|| {
+                s.get("displacements")?
+                    .get(&key)
+                    .and_then(nums)?
+                    .get(1)
+                    .copied()
+            })
             .flatten()
         });
     Ok(Reference {
         tip,
         amplitude: step
             .get("amplitude")
-            .and_then(Json::num)
+            .and_then(Json::as_f64)
             .ok_or_else(|| bad("amplitude"))?,
-        t: step.get("t").and_then(Json::nums).ok_or_else(|| bad("t"))?,
+        t: step.get("t").and_then(nums).ok_or_else(|| bad("t"))?,
         uy: step
             .get("nodes")
             .and_then(|n| n.get(&key))
             .and_then(|n| n.get("uy"))
-            .and_then(Json::nums)
+            .and_then(nums)
             .ok_or_else(|| bad("uy"))?,
         static_uy,
     })
@@ -112,7 +121,7 @@ pub fn run(args: &DemoArgs) -> Result<(), String> {
     // Unpack as a master does, then drive the library through the C ABI.
     let dir = std::path::absolute(args.out.join("cantilever")).map_err(|e| e.to_string())?;
     let bytes = std::fs::read(&fmu).map_err(|e| e.to_string())?;
-    for (name, data) in fxbody::fmu::zip::read(&bytes)? {
+    for (name, data) in fxbody_host::zip::read(&bytes)? {
         let path = dir.join(&name);
         if let Some(parent) = path.parent() {
             std::fs::create_dir_all(parent).map_err(|e| format!("{}: {e}", parent.display()))?;

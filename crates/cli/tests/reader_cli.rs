@@ -8,7 +8,7 @@ use std::process::{Command, Output};
 fn run(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_fxbody"))
         .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
         .output()
         .expect("run fxbody")
 }
@@ -148,7 +148,7 @@ fn info_on_a_bad_file_exits_2_with_the_line() {
     std::fs::create_dir_all(&dir).unwrap();
     let bad = dir.join("bad.fxb");
     let text = std::fs::read_to_string(
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/fmt_fixed.fxb"),
+        Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join("tests/data/fmt_fixed.fxb"),
     )
     .unwrap()
     .replace("       7       9", "       7       7");
@@ -194,7 +194,9 @@ fn json_array(text: &str, key: &str) -> Option<Vec<f64>> {
 fn info_agrees_with_the_fixture_references() {
     let dir = std::env::var("FXBODY_FIXTURES_DIR")
         .map(std::path::PathBuf::from)
-        .unwrap_or_else(|_| Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures"));
+        .unwrap_or_else(|_| {
+            Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join("fixtures")
+        });
     let mut checked = 0;
     for name in ["cantilever", "cantilever_damped", "freefree", "truss"] {
         let Ok(reference) = std::fs::read_to_string(dir.join(format!("{name}.ref.json"))) else {
@@ -243,7 +245,10 @@ fn info_agrees_with_the_fixture_references() {
 fn info_refuses_negative_damping() {
     let dir = std::env::temp_dir().join(format!("fxb_i13_neg_{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let mut f = fxbody::fxb::read_path(Path::new("tests/data/fmt_dexp.fxb")).unwrap();
+    let mut f = fxbody::fxb::read_path(
+        &Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join("tests/data/fmt_dexp.fxb"),
+    )
+    .unwrap();
     f.damping = Some((0.0, -1e-4));
     let p = dir.join("neg.fxb");
     std::fs::write(&p, fxbody::fxb::write(&f)).unwrap();

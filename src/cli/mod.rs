@@ -1,8 +1,0 @@
-//! The `fxbody` subcommands, one file each; `main.rs` only dispatches.
-
-pub mod demo;
-pub mod info;
-pub mod info_modes;
-pub mod pack;
-pub mod reduce;
-pub mod study;
