@@ -11,6 +11,10 @@
 //! refused before any work (the test simply finishes) with the internal-step count and
 //! the largest step that fits, in compact numbers; the instance then carries on like the
 //! twin.
+
+// Raw FFI: this test calls the exported fmi2* functions directly, as a C master does,
+// which is `unsafe`; the workspace denies `unsafe_code` outside the FMI boundary.
+#![allow(unsafe_code)]
 #![cfg(all(
     target_os = "linux",
     any(target_arch = "x86_64", target_arch = "aarch64")
@@ -128,8 +132,8 @@ fn huge_loads_and_rates_are_refused_and_the_instance_recovers() {
             name,
         );
         recovers(&s, &fx, saved, &print, &twin, name);
-        // SAFETY: the live state of this instance, freed once.
         let mut st = saved;
+        // SAFETY: the live state of this instance, freed once.
         unsafe { fxbody::fmi::fmu_state::fmi2FreeFMUstate(s.c, &mut st) };
     }
 }
