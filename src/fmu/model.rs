@@ -148,7 +148,7 @@ impl Model {
             pos: vec![0.0; 3 * m],
             vel: vec![0.0; 3 * m],
             acc: vec![0.0; 3 * m],
-            guard: StepGuard::new(m),
+            guard: StepGuard::new(&scene),
             start_time: 0.0,
             stop_time: None,
             time: 0.0,
@@ -497,7 +497,11 @@ impl Model {
         let bad = match stepped {
             Ok(()) => self
                 .guard
-                .first_non_finite(s.as_ref(), &self.table)
+                .first_non_finite(
+                    s.as_ref(),
+                    &self.table,
+                    input_magnitude(&self.loads, &self.rates, h),
+                )
                 .map(|what| {
                     crate::solver::SolverError::NonFinite {
                         what,
@@ -703,4 +707,13 @@ fn check_settable(var: &super::vars::Variable, phase: Phase) -> Result<(), Strin
         )),
         _ => Ok(()),
     }
+}
+
+/// The largest magnitude the loads reach over a step of `h`: held value plus rate times
+/// step (the step guard's input bound).
+fn input_magnitude(loads: &[f64], rates: &[f64], h: f64) -> f64 {
+    loads
+        .iter()
+        .zip(rates)
+        .fold(0.0, |m: f64, (l, r)| m.max(l.abs() + r.abs() * h))
 }
