@@ -48,9 +48,10 @@ use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 
 use super::lu::Lu;
 use super::{
-    Loads, MAX_FRAME_ERROR, Model, SPIN_STEP, frame_error, frame_invalid, frame_omega, point_vec,
-    spin_warning,
+    FRAME_RETRY_FRACTION, Loads, MAX_FRAME_ERROR, MAX_HALVINGS, Model, SPIN_STEP, frame_error,
+    frame_invalid, frame_omega, point_vec, spin_warning,
 };
+use crate::num::num;
 use crate::scene::Scene;
 use crate::solver::nodes::check_state;
 use crate::solver::{Frame, MAX_INTERNAL_STEPS, Method, Options, Solver, SolverError, State};
@@ -87,6 +88,14 @@ pub struct Explicit {
     spin_step: f64,
     /// Largest `|P^T P - I|` a step may leave (`MAX_FRAME_ERROR` unless changed).
     frame_tol: f64,
+    /// The state before the current internal step, restored when its frame error asks
+    /// for halving (preallocated): positions, half-step velocities, frame, `dt1`.
+    sub_q: DVector<f64>,
+    sub_v: DVector<f64>,
+    sub_p: Matrix3<f64>,
+    sub_dt1: f64,
+    /// Internal steps redone in halves since the solver was built (for checks).
+    halved: u64,
 }
 
 /// Preallocated storage for one acceleration evaluation.
@@ -158,6 +167,11 @@ impl Explicit {
             warning: None,
             spin_step: SPIN_STEP,
             frame_tol: MAX_FRAME_ERROR,
+            sub_q: DVector::zeros(nq),
+            sub_v: DVector::zeros(nq),
+            sub_p: Matrix3::zeros(),
+            sub_dt1: 0.0,
+            halved: 0,
         };
         s.evaluate_outputs()?;
         s.backup.data.reserve(s.state_len());
@@ -165,12 +179,20 @@ impl Explicit {
     }
 
     /// Change the two spin-related limits: the largest rotation per internal step and
-    /// the largest `|P^T P - I|` a step may leave (infinite: no limit, no check). For
+    /// the largest `|P^T P - I|` a step may leave (infinite: no limit, no check, and no
+    /// halving, which starts at `FRAME_RETRY_FRACTION` of it). For
     /// the spin-rate study, which measures the scheme beyond them, and for checks of the
     /// raw scheme's arithmetic at deliberately large steps; the product never calls it.
     pub fn set_spin_limits(&mut self, spin_step: f64, frame_tol: f64) {
         self.spin_step = spin_step;
         self.frame_tol = frame_tol;
+    }
+
+    /// How many internal steps were redone in halves because their frame error passed
+    /// `FRAME_RETRY_FRACTION x MAX_FRAME_ERROR` (counted over the solver's life, not
+    /// saved in the state): 0 means the results are those of the plain scheme.
+    pub fn halved_steps(&self) -> u64 {
+        self.halved
     }
 
     /// Stable step `dt_fx` of the body (before the `dt_factor`).
@@ -235,6 +257,89 @@ impl Explicit {
         self.dt1 = dt2;
         self.w.key = None;
         Ok(())
+    }
+
+    /// One internal step of `dt` with its frame checked. When the frame error passes
+    /// `FRAME_RETRY_FRACTION x frame_tol` the step is undone (state restored from the
+    /// preallocated copy) and redone in halves, each half checked the same way, down to
+    /// `dt / 2^MAX_HALVINGS`; a part at that size is accepted up to `frame_tol` and
+    /// refused beyond. Unequal consecutive steps are the scheme's own (`dt1`, `dt2`).
+    /// Without a halving the arithmetic is exactly that of `substep(dt)`. Returns the
+    /// internal steps computed (undone ones included), counted against
+    /// `MAX_INTERNAL_STEPS` with `taken` already spent in this communication step `h`.
+    fn checked_substep(&mut self, dt: f64, h: f64, taken: f64) -> Result<f64, SolverError> {
+        let retry = FRAME_RETRY_FRACTION * self.frame_tol;
+        let total: u64 = 1 << MAX_HALVINGS;
+        let t_a = self.t;
+        let (mut pos, mut level, mut count) = (0u64, 0u32, 0.0);
+        while pos < total {
+            let size = total >> level;
+            if retry.is_finite() {
+                self.save_substep();
+            }
+            let d = if level == 0 {
+                dt
+            } else {
+                dt * (size as f64 / total as f64)
+            };
+            self.substep(d)?;
+            count += 1.0;
+            let err = frame_error(&self.p);
+            if err > retry && level < MAX_HALVINGS {
+                self.restore_substep();
+                if level == 0 {
+                    self.halved += 1;
+                }
+                level += 1;
+                if taken + count + (total >> level) as f64 > MAX_INTERNAL_STEPS {
+                    let internal = dt / f64::from(1u32 << level);
+                    return Err(SolverError::TooManySteps {
+                        h,
+                        steps: taken + count + (h / internal).ceil(),
+                        internal,
+                        max_h: MAX_INTERNAL_STEPS * internal,
+                    });
+                }
+                continue;
+            }
+            if err > self.frame_tol {
+                return Err(frame_invalid(
+                    err,
+                    h,
+                    self.spin_rate(),
+                    &format!(
+                        "the frame's angular acceleration is beyond what internal steps of \
+                         {} s (the explicit step halved {MAX_HALVINGS} times) can follow; \
+                         reduce the torque or the loads' rate of change, or use the \
+                         implicit method",
+                        num(d)
+                    ),
+                ));
+            }
+            pos += size;
+            if pos < total {
+                self.t = t_a + dt * (pos as f64 / total as f64);
+            }
+        }
+        Ok(count)
+    }
+
+    /// Copy the state an internal step starts from (no allocation).
+    fn save_substep(&mut self) {
+        self.sub_q.copy_from(&self.q);
+        self.sub_v.copy_from(&self.v);
+        self.sub_p = self.p;
+        self.sub_dt1 = self.dt1;
+    }
+
+    /// Back to the state saved by `save_substep`.
+    fn restore_substep(&mut self) {
+        self.q.copy_from(&self.sub_q);
+        self.v.copy_from(&self.sub_v);
+        self.p = self.sub_p;
+        self.dt1 = self.sub_dt1;
+        self.w.key = None;
+        self.w.a_valid = false;
     }
 
     /// Accelerations at the current time for the outputs.
@@ -336,13 +441,8 @@ impl Explicit {
                     }
                 }
             }
-            self.substep(dt)?;
-            let err = frame_error(&self.p);
-            if err > self.frame_tol {
-                return Err(frame_invalid(err, h, self.spin_rate()));
-            }
+            taken += self.checked_substep(dt, h, taken)?;
             k += 1.0;
-            taken += 1.0;
             self.t = if k == seg_n { t_end } else { seg_t0 + k * dt };
         }
         self.dt_last = dt;
