@@ -303,6 +303,9 @@ impl Explicit {
                 continue;
             }
             if err > self.frame_tol {
+                // The spin rate of before the broken internal step (the state is restored
+                // by the caller anyway).
+                self.restore_substep();
                 return Err(frame_invalid(
                     err,
                     h,
