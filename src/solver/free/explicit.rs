@@ -319,7 +319,8 @@ impl Explicit {
     /// The sub-cycles of one communication step `h` (after the budget check): equal
     /// internal steps at or below the step limit, the limit re-evaluated before each one
     /// (the spin rate grows under a torque), the rest of the step split again when it
-    /// falls below the current step. Every internal step's frame is checked.
+    /// falls below the current step. Every internal step's frame is checked, and an
+    /// internal step the frame cannot follow is redone in halves (`checked_substep`).
     fn run_step(&mut self, h: f64) -> Result<(), SolverError> {
         let t0 = self.t;
         let t_end = t0 + h;

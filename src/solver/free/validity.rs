@@ -1,8 +1,8 @@
 //! When a free body has left what the methods or the model can answer for, and what the
 //! product says then: a singular saddle-point system (with the step and spin rate that
 //! made it so), a frame that is no longer a rotation (the step is refused), a spin rate
-//! near the first local mode (a warning, once), and the spin-rate bound of the explicit
-//! method's internal step.
+//! near the first local mode (a warning, once), the spin-rate bound of the explicit
+//! method's internal step and the halving of an internal step the frame cannot follow.
 
 use nalgebra::Matrix3;
 
