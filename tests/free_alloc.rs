@@ -64,7 +64,7 @@ fn stepping_does_not_allocate() {
 
 /// The halving of an explicit internal step the frame cannot follow (its state copy is
 /// preallocated) allocates nothing either: the free-free beam spinning at 3 rad/s under
-/// 0.5 N m about its own axis (FORMULATION.md section 10.7), measured over steps 3 to 5,
+/// 0.5 N m about global z (half of it along its own axis) (FORMULATION.md section 10.7), measured over steps 3 to 5,
 /// where internal steps are halved, after the spin warning of step 2 (its text is
 /// allocated once).
 #[test]
@@ -94,6 +94,9 @@ fn halving_does_not_allocate() {
         assert!(s.take_warning().is_none());
     }
     let n = alloc_counter::allocations() - before;
-    assert!(s.halved_steps() > halved, "no halving in the measured steps");
+    assert!(
+        s.halved_steps() > halved,
+        "no halving in the measured steps"
+    );
     assert_eq!(n, 0, "{n} allocations while halving");
 }

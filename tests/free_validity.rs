@@ -170,8 +170,8 @@ fn frame_no_longer_a_rotation_is_refused() {
 const TORQUE_REFUSED: f64 = 1e12;
 
 /// The lead's scene (issue 13 regression): the beam spinning at 3 rad/s about global x,
-/// 1 N on node 511's fy and 0.5 N m on its mz (about the beam's own axis, small inertia:
-/// an angular acceleration of about 3500 rad/s^2). One internal step at 0.9 dt_fx left
+/// 1 N on node 511's fy and 0.5 N m on its mz (half of it along the beam's axis, small
+/// inertia: the spin about it grows by 16 rad/s per ms, about 1.6e4 rad/s^2). One internal step at 0.9 dt_fx left
 /// |P^T P - I| = 1.1e-6 and the first communication step was refused. With the halving
 /// the explicit method runs 0.01 s, the frame stays within 1e-7 at every step, and node
 /// 511's y and the frame origin's x agree with the implicit method at h = 1e-5 s (an

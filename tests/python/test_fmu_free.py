@@ -105,8 +105,8 @@ def test_tip_pulse_matches_full_fe_reference(freefree, method, substeps, tol):
 
 def test_explicit_follows_an_axial_torque_on_a_spinning_beam(freefree):
     """Issue 13 regression: the beam spinning at 3 rad/s about global x, 1 N on node
-    511's fy and 0.5 N m on its mz (about the beam's own axis, small inertia: about
-    3500 rad/s^2). The explicit method refused the first step (|P^T P - I| = 1.1e-6 after
+    511's fy and 0.5 N m on its mz (half of it along the beam's axis, small inertia:
+    about 1.6e4 rad/s^2). The explicit method refused the first step (|P^T P - I| = 1.1e-6 after
     one internal step); it now halves the internal steps the angular acceleration asks
     for and runs 0.01 s, the frame within 1e-6 (1e-7 by design) at every step, node 511's
     y and frame.x within a stated tolerance of the implicit method at h = 1e-5 s."""
