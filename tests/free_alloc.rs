@@ -61,3 +61,42 @@ fn stepping_does_not_allocate() {
         }
     }
 }
+
+/// The halving of an explicit internal step the frame cannot follow (its state copy is
+/// preallocated) allocates nothing either: the free-free beam spinning at 3 rad/s under
+/// 0.5 N m about global z (half of it along its own axis) (FORMULATION.md section 10.7), measured over steps 3 to 5,
+/// where internal steps are halved, after the spin warning of step 2 (its text is
+/// allocated once).
+#[test]
+fn halving_does_not_allocate() {
+    use fxbody::fxb::coords::{read_coords, to_map};
+    use fxbody::fxb::load_body;
+    use fxbody::scene::Scene;
+    use fxbody::solver::Solver;
+    use fxbody::solver::free::Explicit;
+    let root = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures");
+    let body = load_body(&root.join("freefree.fxb")).unwrap();
+    let xyz = to_map(&read_coords(&root.join("freefree.nodes.rad")).unwrap());
+    let k = body.node_index(511).unwrap();
+    let mut sc = Scene::new(std::sync::Arc::new(body), vec![k], vec![xyz[&511]]);
+    sc.w0 = [3.0, 0.0, 0.0];
+    let mut s = Explicit::new(&sc, &Options::default()).unwrap();
+    s.set_loads(&[0.0, 1.0, 0.0, 0.0, 0.0, 0.5]).unwrap();
+    let mut saved = s.state();
+    for _ in 0..2 {
+        s.step(1e-3).unwrap();
+        std::hint::black_box(s.take_warning());
+    }
+    let (halved, before) = (s.halved_steps(), alloc_counter::allocations());
+    for _ in 0..3 {
+        s.state_into(&mut saved);
+        s.step(1e-3).unwrap();
+        assert!(s.take_warning().is_none());
+    }
+    let n = alloc_counter::allocations() - before;
+    assert!(
+        s.halved_steps() > halved,
+        "no halving in the measured steps"
+    );
+    assert_eq!(n, 0, "{n} allocations while halving");
+}

@@ -41,16 +41,14 @@
 //! mid-step frame the pair entries average out and the rate is second-order accurate.
 
 mod accel;
+mod halving;
 
 use std::cell::RefCell;
 
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 
 use super::lu::Lu;
-use super::{
-    Loads, MAX_FRAME_ERROR, Model, SPIN_STEP, frame_error, frame_invalid, frame_omega, point_vec,
-    spin_warning,
-};
+use super::{Loads, MAX_FRAME_ERROR, Model, SPIN_STEP, frame_omega, point_vec, spin_warning};
 use crate::scene::Scene;
 use crate::solver::nodes::check_state;
 use crate::solver::{Frame, MAX_INTERNAL_STEPS, Method, Options, Solver, SolverError, State};
@@ -87,6 +85,14 @@ pub struct Explicit {
     spin_step: f64,
     /// Largest `|P^T P - I|` a step may leave (`MAX_FRAME_ERROR` unless changed).
     frame_tol: f64,
+    /// The state before the current internal step, restored when its frame error asks
+    /// for halving (preallocated): positions, half-step velocities, frame, `dt1`.
+    sub_q: DVector<f64>,
+    sub_v: DVector<f64>,
+    sub_p: Matrix3<f64>,
+    sub_dt1: f64,
+    /// Internal steps redone in halves since the solver was built (for checks).
+    halved: u64,
 }
 
 /// Preallocated storage for one acceleration evaluation.
@@ -158,6 +164,11 @@ impl Explicit {
             warning: None,
             spin_step: SPIN_STEP,
             frame_tol: MAX_FRAME_ERROR,
+            sub_q: DVector::zeros(nq),
+            sub_v: DVector::zeros(nq),
+            sub_p: Matrix3::zeros(),
+            sub_dt1: 0.0,
+            halved: 0,
         };
         s.evaluate_outputs()?;
         s.backup.data.reserve(s.state_len());
@@ -165,12 +176,20 @@ impl Explicit {
     }
 
     /// Change the two spin-related limits: the largest rotation per internal step and
-    /// the largest `|P^T P - I|` a step may leave (infinite: no limit, no check). For
+    /// the largest `|P^T P - I|` a step may leave (infinite: no limit, no check, and no
+    /// halving, which starts at `FRAME_RETRY_FRACTION` of it). For
     /// the spin-rate study, which measures the scheme beyond them, and for checks of the
     /// raw scheme's arithmetic at deliberately large steps; the product never calls it.
     pub fn set_spin_limits(&mut self, spin_step: f64, frame_tol: f64) {
         self.spin_step = spin_step;
         self.frame_tol = frame_tol;
+    }
+
+    /// How many internal steps were redone in halves because their frame error passed
+    /// `FRAME_RETRY_FRACTION x MAX_FRAME_ERROR` (counted over the solver's life, not
+    /// saved in the state): 0 means the results are those of the plain scheme.
+    pub fn halved_steps(&self) -> u64 {
+        self.halved
     }
 
     /// Stable step `dt_fx` of the body (before the `dt_factor`).
@@ -300,7 +319,8 @@ impl Explicit {
     /// The sub-cycles of one communication step `h` (after the budget check): equal
     /// internal steps at or below the step limit, the limit re-evaluated before each one
     /// (the spin rate grows under a torque), the rest of the step split again when it
-    /// falls below the current step. Every internal step's frame is checked.
+    /// falls below the current step. Every internal step's frame is checked, and an
+    /// internal step the frame cannot follow is redone in halves (`checked_substep`).
     fn run_step(&mut self, h: f64) -> Result<(), SolverError> {
         let t0 = self.t;
         let t_end = t0 + h;
@@ -336,13 +356,8 @@ impl Explicit {
                     }
                 }
             }
-            self.substep(dt)?;
-            let err = frame_error(&self.p);
-            if err > self.frame_tol {
-                return Err(frame_invalid(err, h, self.spin_rate()));
-            }
+            taken += self.checked_substep(dt, h, taken)?;
             k += 1.0;
-            taken += 1.0;
             self.t = if k == seg_n { t_end } else { seg_t0 + k * dt };
         }
         self.dt_last = dt;

@@ -338,7 +338,12 @@ impl Implicit {
                 self.t = t_end;
                 let err = frame_error(&self.p);
                 if err > MAX_FRAME_ERROR {
-                    return Err(frame_invalid(err, h, self.spin_rate()));
+                    return Err(frame_invalid(
+                        err,
+                        h,
+                        self.spin_rate(),
+                        "use smaller communication steps",
+                    ));
                 }
                 return Ok(());
             }

@@ -34,7 +34,9 @@ mod validity;
 
 pub use explicit::Explicit;
 pub use implicit::Implicit;
-pub use validity::{MAX_FRAME_ERROR, SPIN_STEP, SPIN_WARN_RATIO};
+pub use validity::{
+    FRAME_RETRY_FRACTION, MAX_FRAME_ERROR, MAX_HALVINGS, SPIN_STEP, SPIN_WARN_RATIO,
+};
 pub(crate) use validity::{
     SINGULAR_RATIO, frame_error, frame_invalid, singular_error, spin_warning,
 };

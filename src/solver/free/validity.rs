@@ -1,8 +1,8 @@
 //! When a free body has left what the methods or the model can answer for, and what the
 //! product says then: a singular saddle-point system (with the step and spin rate that
 //! made it so), a frame that is no longer a rotation (the step is refused), a spin rate
-//! near the first local mode (a warning, once), and the spin-rate bound of the explicit
-//! method's internal step.
+//! near the first local mode (a warning, once), the spin-rate bound of the explicit
+//! method's internal step and the halving of an internal step the frame cannot follow.
 
 use nalgebra::Matrix3;
 
@@ -81,18 +81,31 @@ pub(crate) fn frame_error(p: &Matrix3<f64>) -> f64 {
     if e.is_nan() { f64::INFINITY } else { e }
 }
 
-/// The refusal of a step that would leave the frame no longer a rotation.
-pub(crate) fn frame_invalid(err: f64, h: f64, spin: f64) -> SolverError {
+/// The refusal of a step that would leave the frame no longer a rotation, with the
+/// advice that fits the method (`advice`: what the user can change).
+pub(crate) fn frame_invalid(err: f64, h: f64, spin: f64, advice: &str) -> SolverError {
     SolverError::Invalid(format!(
         "the step of {} s would leave the body frame no longer a rotation (|P^T P - I| = \
          {}, more than {}) at spin rate {} rad/s; the step was refused and the state is as \
-         before it: use smaller communication steps or the implicit method",
+         before it: {advice}",
         num(h),
         num(err),
         num(MAX_FRAME_ERROR),
         num(spin)
     ))
 }
+
+/// Fraction of [`MAX_FRAME_ERROR`] above which the explicit method undoes an internal
+/// step and redoes it in halves (1e-7). The frame error one internal step leaves is of
+/// order `(dt^2 |b|)^2`, `b` the frame points' relative acceleration (`|omega|^2` from the
+/// spin, `|alpha|` from an angular acceleration), so each halving divides it by about 16
+/// (docs/STUDY.md, angular acceleration).
+pub const FRAME_RETRY_FRACTION: f64 = 0.1;
+
+/// Most halvings of one explicit internal step (down to `dt / 1024`) before the step is
+/// refused: a frame acceleration that 1024 times smaller steps cannot follow is
+/// `~1e6` times beyond what a normal internal step follows, a load the body cannot take.
+pub const MAX_HALVINGS: u32 = 10;
 
 /// Spin-rate check at the end of a step: when `|omega|` passes `SPIN_WARN_RATIO x
 /// omega_1` for the first time in this solver's life, the warning text (else `None`).
