@@ -109,7 +109,7 @@ struct Work {
     kkt: Lu,
     rhs: Vec<f64>,
     /// `(dt1, dt2)` of the matrices above when they belong to the current state.
-    key: Option<(f64, f64)>,
+    key: (f64, f64),
     /// `a` holds the accelerations of the state and steps of `key` with the loads
     /// `loads_at`.
     a_valid: bool,
@@ -137,7 +137,7 @@ impl Explicit {
             a: DVector::zeros(nq),
             kkt: Lu::new(nr + m.nc()),
             rhs: vec![0.0; nr + m.nc()],
-            key: None,
+            key: super::NO_KEY,
             a_valid: false,
             loads_at: vec![0.0; 6 * m.nexp],
         };
@@ -252,7 +252,7 @@ impl Explicit {
             }
         }
         self.dt1 = dt2;
-        self.w.key = None;
+        self.w.key = super::NO_KEY;
         Ok(())
     }
 
@@ -329,7 +329,7 @@ impl Explicit {
         if self.jump && self.dt1 > 0.0 {
             self.v.axpy(0.5 * self.dt1, &self.a_out, 1.0);
             self.dt1 = 0.0;
-            self.w.key = None;
+            self.w.key = super::NO_KEY;
         }
         self.jump = false;
         let (n0, dt0) = self.internal_step(h);
@@ -528,7 +528,7 @@ impl Solver for Explicit {
         self.p.copy_from_slice(&d[o..o + 9]);
         o += 9;
         self.loads.load(&d[o..]);
-        self.w.key = None;
+        self.w.key = super::NO_KEY;
         Ok(())
     }
 }

@@ -37,10 +37,10 @@ impl Explicit {
     /// load-dependent right side is rebuilt. The numbers are those of a fresh
     /// evaluation, bit for bit.
     pub(super) fn accelerations(&mut self, t: f64, dt1: f64, dt2: f64) -> Result<(), SolverError> {
-        if self.w.key != Some((dt1, dt2)) {
-            self.w.key = None;
+        if self.w.key != (dt1, dt2) {
+            self.w.key = super::super::NO_KEY;
             self.factor_matrix(dt1, dt2)?;
-            self.w.key = Some((dt1, dt2));
+            self.w.key = (dt1, dt2);
         } else if self.w.a_valid
             && (0..self.w.loads_at.len()).all(|i| self.loads.at(i, t) == self.w.loads_at[i])
         {

@@ -95,7 +95,7 @@ impl Explicit {
         self.v.copy_from(&self.sub_v);
         self.p = self.sub_p;
         self.dt1 = self.sub_dt1;
-        self.w.key = None;
+        self.w.key = super::super::NO_KEY;
         self.w.a_valid = false;
     }
 }
