@@ -367,4 +367,10 @@ fn body_stable_step_comes_from_the_computed_frequency() {
         b.explicit_stable_step()
     );
     assert_eq!(b.warnings.len(), 1);
+    // The stored value is printed compactly, not with 98 zeros.
+    assert!(
+        b.warnings[0].contains("stored Freq = 1e-98 Hz"),
+        "{}",
+        b.warnings[0]
+    );
 }
