@@ -2,27 +2,13 @@
 //! method, blocked and free): a counting global allocator (this test binary only) counts
 //! allocations made by this thread while loads are set, steps taken and outputs read.
 
-use std::path::PathBuf;
-use std::sync::Arc;
-
-use fxbody::fxb::{coords, load_body};
-use fxbody::scene::Scene;
 use fxbody::solver::{Method, Options, build};
 
 use crate::alloc_counter;
+use crate::common::fixture_scene as scene;
 
 fn count() -> usize {
     alloc_counter::allocations()
-}
-
-fn scene(name: &str, ids: &[i64]) -> Scene {
-    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures");
-    let body = load_body(&root.join(format!("{name}.fxb"))).unwrap();
-    let xyz =
-        coords::to_map(&coords::read_coords(&root.join(format!("{name}.nodes.rad"))).unwrap());
-    let nodes = ids.iter().map(|id| body.node_index(*id).unwrap()).collect();
-    let x0 = ids.iter().map(|id| xyz[id]).collect();
-    Scene::new(Arc::new(body), nodes, x0)
 }
 
 #[test]

@@ -7,7 +7,7 @@
 
 use std::collections::BTreeMap;
 use std::ffi::{CStr, CString, c_char, c_void};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
 /// Every export under one name, whichever module of src/fmi defines it.
@@ -21,12 +21,10 @@ use fxbody::fmi::state::FmiState;
 use fxbody::fmi::types::*;
 use fxbody::fmu::pack::{PackRequest, Prepared, find_library, pack};
 
+use super::fixture;
+
 /// Time step of every run.
 pub const H: f64 = 1e-4;
-
-pub fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
 
 /// A packed and unpacked FMU: the preparation (variables, GUID), the folder, the
 /// resource URI and the library path.
@@ -56,16 +54,15 @@ impl Drop for Packed {
     }
 }
 
-/// Pack the cantilever with its tip node 121 exposed and unpack it under a temporary
-/// folder named after `tag`.
-pub fn packed(tag: &str) -> Packed {
-    let dir = std::env::temp_dir().join(format!("fxbody_robust_{tag}_{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+/// Pack the cantilever with its tip node 121 exposed into `dir/tip.fmu` and unpack it
+/// into `dir`: the preparation and the path of the unpacked library.
+pub fn unpack_tip(dir: &Path) -> (Prepared, PathBuf) {
+    std::fs::create_dir_all(dir).unwrap();
     let lib = find_library(None).expect("libfxbody.so next to the test executable");
     let fmu = dir.join("tip.fmu");
     let req = PackRequest {
-        body: root().join("fixtures/cantilever.fxb"),
-        coords: Some(root().join("fixtures/cantilever.nodes.rad")),
+        body: fixture("cantilever.fxb"),
+        coords: Some(fixture("cantilever.nodes.rad")),
         nodes: Some(vec![121]),
         ..PackRequest::default()
     };
@@ -75,8 +72,14 @@ pub fn packed(tag: &str) -> Packed {
         std::fs::create_dir_all(path.parent().unwrap()).unwrap();
         std::fs::write(path, data).unwrap();
     }
+    (p, dir.join("binaries/linux64/cantilever.so"))
+}
+
+/// [`unpack_tip`] under a temporary folder named after `tag`.
+pub fn packed(tag: &str) -> Packed {
+    let dir = std::env::temp_dir().join(format!("fxbody_robust_{tag}_{}", std::process::id()));
+    let (p, so) = unpack_tip(&dir);
     let uri = fxbody::fmi::host::file_uri(&dir.join("resources"));
-    let so = dir.join("binaries/linux64/cantilever.so");
     Packed { p, dir, uri, so }
 }
 

@@ -3,16 +3,13 @@
 //! and no file points outside the repository (to a shared design folder, or by a relative
 //! Markdown link that climbs out of it).
 
+use crate::common::root;
 use std::path::{Path, PathBuf};
 
 /// Directories of the repository that are not its own text.
 const SKIP_DIRS: [&str; 5] = ["target", ".venv", ".git", "out", "__pycache__"];
 /// Text files that may cite the formulation or link to other files.
 const EXTENSIONS: [&str; 8] = ["rs", "md", "py", "toml", "txt", "sh", "h", "c"];
-
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
 
 /// Every text file of the repository (symbolic links not followed).
 fn text_files(dir: &Path, out: &mut Vec<PathBuf>) {

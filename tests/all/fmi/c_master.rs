@@ -3,39 +3,18 @@
 //! solver driven directly over the same scene.
 
 use crate::common::c_build;
+use crate::common::fmu::unpack_tip;
 
-use std::path::PathBuf;
 use std::process::Command;
 
-use fxbody::fmu::pack::{PackRequest, find_library, pack};
 use fxbody::fmu::scene_io::load_resources;
 use fxbody::solver::{self, Method, Options};
-
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
 
 #[test]
 fn c_master_matches_the_rust_solver() {
     let tmp = std::env::temp_dir().join(format!("fxbody_c_{}", std::process::id()));
     let unz = tmp.join("unz");
-    std::fs::create_dir_all(unz.join("resources")).unwrap();
-    std::fs::create_dir_all(unz.join("binaries/linux64")).unwrap();
-    let lib = find_library(None).expect("libfxbody.so next to the test executable");
-    let fmu = tmp.join("tip.fmu");
-    let req = PackRequest {
-        body: root().join("fixtures/cantilever.fxb"),
-        coords: Some(root().join("fixtures/cantilever.nodes.rad")),
-        nodes: Some(vec![121]),
-        ..PackRequest::default()
-    };
-    let p = pack(&req, &lib, &fmu).unwrap();
-    for (name, data) in fxbody::fmu::zip::read(&std::fs::read(&fmu).unwrap()).unwrap() {
-        let path = unz.join(&name);
-        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
-        std::fs::write(path, data).unwrap();
-    }
-    let so = unz.join("binaries/linux64/cantilever.so");
+    let (p, so) = unpack_tip(&unz);
     let exe = tmp.join("driver");
     c_build::compile_c_master("fmu_driver.c", &exe, &["-O2"]);
     let vr = |n: &str| {

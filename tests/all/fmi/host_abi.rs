@@ -3,35 +3,10 @@
 //! from before initialisation, and the logged reasons. References: a second run of the
 //! same FMU, which must match bit for bit.
 
-use std::path::{Path, PathBuf};
-
 use fxbody::fmi::host::{FmuLibrary, Instance, file_uri};
-use fxbody::fmu::pack::{PackRequest, Prepared, find_library, pack};
+use fxbody::fmu::pack::Prepared;
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-/// Pack the cantilever (tip node only) and unpack it into `dir`.
-fn packed(dir: &Path) -> (Prepared, PathBuf) {
-    std::fs::create_dir_all(dir).unwrap();
-    let lib = find_library(None).expect("libfxbody.so next to the test executable");
-    let fmu = dir.join("tip.fmu");
-    let req = PackRequest {
-        body: root().join("fixtures/cantilever.fxb"),
-        coords: Some(root().join("fixtures/cantilever.nodes.rad")),
-        nodes: Some(vec![121]),
-        ..PackRequest::default()
-    };
-    let p = pack(&req, &lib, &fmu).unwrap();
-    for (name, data) in fxbody::fmu::zip::read(&std::fs::read(&fmu).unwrap()).unwrap() {
-        let path = dir.join(&name);
-        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
-        std::fs::write(path, data).unwrap();
-    }
-    let so = dir.join("binaries/linux64/cantilever.so");
-    (p, so)
-}
+use crate::common::fmu::unpack_tip as packed;
 
 fn vr(p: &Prepared, name: &str) -> u32 {
     p.table.vars.iter().find(|v| v.name == name).unwrap().vr

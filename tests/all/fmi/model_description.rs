@@ -2,16 +2,13 @@
 //! `fxbody pack` generates now (stale files fail; `FXBODY_BLESS=1` rewrites them), and
 //! what the library serves agrees with them.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
+use crate::common::root;
 use fxbody::fmu::pack::{PackRequest, prepare};
 use fxbody::fmu::scene_io::load_resources;
 
 const BODIES: [&str; 4] = ["cantilever", "cantilever_damped", "freefree", "truss"];
-
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
 
 fn request(body: &str) -> PackRequest {
     PackRequest {

@@ -2,21 +2,15 @@
 //! reference (freefree.ref.json: exact modal superposition with all FE modes, rigid
 //! modes integrated exactly), and the momentum balance of a force pulse.
 
-use std::path::Path;
 use std::sync::Arc;
 
+use crate::common::fixture;
 use fxbody::body::Body;
 use fxbody::fxb::coords::{read_coords, to_map};
 use fxbody::fxb::load_body;
 use fxbody::scene::Scene;
 use fxbody::solver::{Method, Options, Solver, build};
 use nalgebra::{DVector, Matrix3, Vector3};
-
-fn fixture(name: &str) -> std::path::PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("fixtures")
-        .join(name)
-}
 
 /// A minimal reader for the reference JSON (numbers, strings, arrays, objects) so the
 /// test needs no JSON dependency.

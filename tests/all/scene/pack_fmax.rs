@@ -4,8 +4,7 @@
 //! direct K_L solves of the full and the truncated body), and the tip step response
 //! stays within 2% of the full-FE reference (fixtures/cantilever.ref.json).
 
-use std::path::PathBuf;
-
+use crate::common::root;
 use fxbody::body::Body;
 use fxbody::fmu::model::{Model, Phase};
 use fxbody::fmu::pack::{Fmax, PackRequest, prepare_with};
@@ -13,10 +12,6 @@ use fxbody::fmu::vars::Kind;
 use fxbody::fxb::load_body;
 use nalgebra::DMatrix;
 use serde_json::Value;
-
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
 
 /// Tip uy under a unit fy at the tip, direct solve with K_L (P0 = I in this fixture).
 fn static_uy(body: &Body, tip: usize) -> f64 {

@@ -2,17 +2,12 @@
 //! (keep the modes up to 1/H, twice the Nyquist frequency of the DefaultExperiment step
 //! H) and the warning when exposing every node makes more than 1,000 variables.
 
-use std::path::PathBuf;
-
 use crate::common::blocked::{IDENTITY, blocked_body};
+use crate::common::root;
 use fxbody::fmu::pack::{Fmax, PackRequest, prepare, prepare_with};
 use fxbody::fxb::write;
 use fxbody::reduce::to_fxb;
 use serde_json::Value;
-
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
 
 fn cantilever() -> PackRequest {
     PackRequest {

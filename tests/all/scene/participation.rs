@@ -3,19 +3,13 @@
 //! cantilever's tip deflection, the mass-orthogonality of free-free modes to rigid
 //! translations (zero effective mass), and a direct K_L solve of the truncated body.
 
-use std::path::PathBuf;
 use std::process::Command;
 
+use crate::common::fixture;
 use fxbody::fxb::load_body;
 use fxbody::reduce::{effective_mass, static_participation, truncate};
 use nalgebra::{DMatrix, DVector};
 use serde_json::Value;
-
-fn fixture(name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("fixtures")
-        .join(name)
-}
 
 #[test]
 fn cantilever_tip_share_of_the_first_bending_mode() {

@@ -3,25 +3,13 @@
 //! Python), whose mass is the whole body's, and whose static deflection at the kept nodes
 //! plus the residual flexibility is the full body's.
 
-use std::path::PathBuf;
 use std::process::Command;
 
+use crate::common::{fixture, fixture_reference as reference};
 use fxbody::body::Body;
 use fxbody::fxb::load_body;
 use fxbody::reduce::truncate;
 use nalgebra::{DMatrix, DVector};
-use serde_json::Value;
-
-fn fixture(name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("fixtures")
-        .join(name)
-}
-
-fn reference(name: &str) -> Value {
-    let text = std::fs::read_to_string(fixture(&format!("{name}.ref.json"))).unwrap();
-    serde_json::from_str(&text).unwrap()
-}
 
 /// Run `fxbody reduce` and read the output back.
 fn reduce(name: &str, nodes: &str, fmax: f64) -> (Body, String) {

@@ -3,22 +3,8 @@
 //! for a free body the linear-static identity work = 2 x strain energy of the
 //! correction.
 
-use std::path::PathBuf;
-use std::sync::Arc;
-
-use fxbody::fxb::{coords, load_body};
-use fxbody::scene::Scene;
+use crate::common::fixture_scene as scene;
 use fxbody::solver::{Method, Options, build};
-
-fn scene(name: &str, ids: &[i64]) -> Scene {
-    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures");
-    let body = load_body(&root.join(format!("{name}.fxb"))).unwrap();
-    let xyz =
-        coords::to_map(&coords::read_coords(&root.join(format!("{name}.nodes.rad"))).unwrap());
-    let nodes = ids.iter().map(|id| body.node_index(*id).unwrap()).collect();
-    let x0 = ids.iter().map(|id| xyz[id]).collect();
-    Scene::new(Arc::new(body), nodes, x0)
-}
 
 #[test]
 fn velocities_are_the_derivative_of_positions_under_ramped_loads() {

@@ -4,51 +4,12 @@
 //! (fixtures/*.ref.json, computed in Python with all FE modes), and the Euler-Bernoulli
 //! one-mode fraction 12/(beta_1 L)^4 of a cantilever's tip deflection.
 
-use std::path::PathBuf;
-use std::sync::Arc;
-
+use crate::common::{displacements, fixture_scene_and_reference as scene, nums};
 use fxbody::body::Body;
-use fxbody::fxb::{coords, load_body};
 use fxbody::scene::Scene;
-use fxbody::solver::{Method, Options, Solver, build};
+use fxbody::solver::{Method, Options, build};
 use nalgebra::{DMatrix, DVector};
 use serde_json::Value;
-
-fn fixture(name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("fixtures")
-        .join(name)
-}
-
-/// The body of fixture `name`, exposing `ids`, and its reference JSON.
-fn scene(name: &str, ids: &[i64]) -> (Scene, Value) {
-    let body = load_body(&fixture(&format!("{name}.fxb"))).unwrap();
-    let xyz = coords::to_map(&coords::read_coords(&fixture(&format!("{name}.nodes.rad"))).unwrap());
-    let nodes = ids.iter().map(|id| body.node_index(*id).unwrap()).collect();
-    let x0 = ids.iter().map(|id| xyz[id]).collect();
-    let text = std::fs::read_to_string(fixture(&format!("{name}.ref.json"))).unwrap();
-    (
-        Scene::new(Arc::new(body), nodes, x0),
-        serde_json::from_str(&text).unwrap(),
-    )
-}
-
-fn nums(v: &Value) -> Vec<f64> {
-    v.as_array()
-        .unwrap()
-        .iter()
-        .map(|x| x.as_f64().unwrap())
-        .collect()
-}
-
-fn displacements(s: &dyn Solver, scene: &Scene) -> Vec<f64> {
-    let mut p = vec![0.0; 3 * scene.nodes.len()];
-    s.positions(&mut p);
-    p.iter()
-        .enumerate()
-        .map(|(i, x)| x - scene.x0[i / 3][i % 3])
-        .collect()
-}
 
 /// Static translations of `nodes` of a blocked body under the global nodal loads `f`
 /// (6 per node), by a direct solve `u = P0 G K_L^-1 G^T P0^T f`: no modal basis involved.
