@@ -6,8 +6,8 @@
 pub mod blocked;
 pub mod c_build;
 pub mod fmu;
+pub mod free_hand_step;
 pub mod fxb_files;
-pub mod hand;
 pub mod springs;
 
 use std::path::PathBuf;

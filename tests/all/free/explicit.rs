@@ -4,6 +4,7 @@
 
 use std::sync::Arc;
 
+use crate::common::free_hand_step;
 use crate::common::springs::*;
 use fxbody::body::Body;
 use fxbody::fxb::FxbFile;
@@ -12,38 +13,31 @@ use fxbody::solver::free::{Explicit, coords_from_rigid_modes};
 use fxbody::solver::{Method, Options, Solver, SolverError, build};
 use nalgebra::Vector3;
 
-/// The three-node body of the hand computation, from the pasted raw blocks.
+/// The three-node body of the hand computation, from its raw blocks.
 fn hand_scene(irot: bool) -> Scene {
-    macro_rules! file {
-        ($m:ident) => {{
-            use crate::common::hand::$m as h;
-            (
-                FxbFile {
-                    nbmod: 2,
-                    nbstat: 1,
-                    nbnod: 3,
-                    irot,
-                    idamp: true,
-                    iblo: false,
-                    ifile: false,
-                    node_ids: vec![11, 12, 13],
-                    p0: h::P0,
-                    freq: h::FREQ,
-                    damping: Some(h::DAMPING),
-                    rigid_modes: h::RIGID_MODES.to_vec(),
-                    local_modes: h::LOCAL_MODES.to_vec(),
-                    m_l: h::M_L.to_vec(),
-                    k_full: h::K_FULL.to_vec(),
-                    k_diag: h::K_DIAG.to_vec(),
-                    m_r: h::M_R.to_vec(),
-                    m_c: h::M_C.to_vec(),
-                    k_c: h::K_C.to_vec(),
-                },
-                h::X0,
-            )
-        }};
-    }
-    let (file, x) = if irot { file!(rot) } else { file!(norot) };
+    let h = free_hand_step::load(irot);
+    let file = FxbFile {
+        nbmod: 2,
+        nbstat: 1,
+        nbnod: 3,
+        irot,
+        idamp: true,
+        iblo: false,
+        ifile: false,
+        node_ids: vec![11, 12, 13],
+        p0: h.p0,
+        freq: h.freq,
+        damping: Some(h.damping),
+        rigid_modes: h.rigid_modes,
+        local_modes: h.local_modes,
+        m_l: h.m_l,
+        k_full: h.k_full,
+        k_diag: h.k_diag,
+        m_r: h.m_r,
+        m_c: h.m_c,
+        k_c: h.k_c,
+    };
+    let x = h.x0;
     let body = Arc::new(Body::assemble(&file));
     let mut s = Scene::new(
         body,
@@ -72,48 +66,43 @@ fn close(what: &str, got: &[f64], want: &[f64], tol: f64) {
 }
 
 fn hand_case(irot: bool) {
-    macro_rules! check {
-        ($m:ident) => {{
-            use crate::common::hand::$m as h;
-            // Case A: one communication step split into two internal steps.
-            let mut s = Explicit::new(&hand_scene(irot), &Options::default()).unwrap();
-            s.set_loads(&LOADS).unwrap();
-            s.set_load_rates(&RATES).unwrap();
-            assert_eq!(s.internal_step(h::HA).0, 2);
-            s.step(h::HA).unwrap();
-            let (q, v, p) = s.raw();
-            close("qA", q.as_slice(), &h::QA, 1e-12);
-            close("vA", v.as_slice(), &h::VA, 1e-12);
-            close("PA", p.transpose().as_slice(), &h::PA, 1e-12);
-            // Case B: two communication steps of one internal step each.
-            let mut s = Explicit::new(&hand_scene(irot), &Options::default()).unwrap();
-            s.set_loads(&LOADS).unwrap();
-            s.set_load_rates(&RATES).unwrap();
-            for h in h::HB {
-                assert_eq!(s.internal_step(h).0, 1);
-                s.step(h).unwrap();
-            }
-            let (q, v, p) = s.raw();
-            close("qB", q.as_slice(), &h::QB, 1e-12);
-            close("vB", v.as_slice(), &h::VB, 1e-12);
-            close("PB", p.transpose().as_slice(), &h::PB, 1e-12);
-            let mut pos = [0.0; 6];
-            s.positions(&mut pos);
-            close("posB", &pos, &h::POSB, 1e-12);
-            // Case C: as B with a load jump before the second step (restart).
-            let mut s = Explicit::new(&hand_scene(irot), &Options::default()).unwrap();
-            s.set_loads(&LOADS).unwrap();
-            s.set_load_rates(&RATES).unwrap();
-            s.step(h::HB[0]).unwrap();
-            s.set_loads(&h::JUMP).unwrap();
-            s.step(h::HB[1]).unwrap();
-            let (q, v, p) = s.raw();
-            close("qC", q.as_slice(), &h::QC, 1e-12);
-            close("vC", v.as_slice(), &h::VC, 1e-12);
-            close("PC", p.transpose().as_slice(), &h::PC, 1e-12);
-        }};
+    let h = free_hand_step::load(irot);
+    // Case A: one communication step split into two internal steps.
+    let mut s = Explicit::new(&hand_scene(irot), &Options::default()).unwrap();
+    s.set_loads(&LOADS).unwrap();
+    s.set_load_rates(&RATES).unwrap();
+    assert_eq!(s.internal_step(h.ha).0, 2);
+    s.step(h.ha).unwrap();
+    let (q, v, p) = s.raw();
+    close("qA", q.as_slice(), &h.qa, 1e-12);
+    close("vA", v.as_slice(), &h.va, 1e-12);
+    close("PA", p.transpose().as_slice(), &h.pa, 1e-12);
+    // Case B: two communication steps of one internal step each.
+    let mut s = Explicit::new(&hand_scene(irot), &Options::default()).unwrap();
+    s.set_loads(&LOADS).unwrap();
+    s.set_load_rates(&RATES).unwrap();
+    for dt in h.hb {
+        assert_eq!(s.internal_step(dt).0, 1);
+        s.step(dt).unwrap();
     }
-    if irot { check!(rot) } else { check!(norot) }
+    let (q, v, p) = s.raw();
+    close("qB", q.as_slice(), &h.qb, 1e-12);
+    close("vB", v.as_slice(), &h.vb, 1e-12);
+    close("PB", p.transpose().as_slice(), &h.pb, 1e-12);
+    let mut pos = [0.0; 6];
+    s.positions(&mut pos);
+    close("posB", &pos, &h.posb, 1e-12);
+    // Case C: as B with a load jump before the second step (restart).
+    let mut s = Explicit::new(&hand_scene(irot), &Options::default()).unwrap();
+    s.set_loads(&LOADS).unwrap();
+    s.set_load_rates(&RATES).unwrap();
+    s.step(h.hb[0]).unwrap();
+    s.set_loads(&h.jump).unwrap();
+    s.step(h.hb[1]).unwrap();
+    let (q, v, p) = s.raw();
+    close("qC", q.as_slice(), &h.qc, 1e-12);
+    close("vC", v.as_slice(), &h.vc, 1e-12);
+    close("PC", p.transpose().as_slice(), &h.pc, 1e-12);
 }
 
 /// Two steps against the numpy hand computation, Irot = 0 (damping, gravity, initial
