@@ -365,7 +365,8 @@ pub fn archive(p: &Prepared, lib: &[u8]) -> Result<Vec<u8>, PackError> {
 /// Pack `req` with the library at `lib` into `out`. Returns the prepared scene.
 ///
 /// A program next to `libfxbody.so` finds it with [`find_library`]`(None)`; this
-/// example, run by the tests from elsewhere, takes the one cargo built.
+/// example, run by the tests from elsewhere, takes the one cargo built, and reads the
+/// archive back with the workspace's FMU importer (`fxbody_host`, a dev-dependency).
 ///
 /// ```
 /// use std::path::Path;
@@ -385,7 +386,7 @@ pub fn archive(p: &Prepared, lib: &[u8]) -> Result<Vec<u8>, PackError> {
 /// std::fs::create_dir_all(&dir)?;
 /// let prepared = pack(&req, &lib, &dir.join("tip.fmu"))?;
 /// assert!(prepared.table.vars.iter().any(|v| v.name == "node_121.fy"));
-/// let files = fxbody::fmu::zip::read(&std::fs::read(dir.join("tip.fmu"))?)?;
+/// let files = fxbody_host::zip::read(&std::fs::read(dir.join("tip.fmu"))?)?;
 /// let names: Vec<&str> = files.iter().map(|(name, _)| name.as_str()).collect();
 /// assert!(names.contains(&"modelDescription.xml"));
 /// assert!(names.contains(&"binaries/linux64/cantilever.so"));

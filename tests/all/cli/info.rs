@@ -2,7 +2,6 @@
 //! numbers against closed forms, exit code 2 and a message naming the line on errors.
 
 use std::f64::consts::PI;
-use std::path::Path;
 use std::process::{Command, Output};
 
 use crate::common::root;
@@ -149,11 +148,9 @@ fn info_on_a_bad_file_exits_2_with_the_line() {
     let dir = std::env::temp_dir().join(format!("fxbody-cli-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let bad = dir.join("bad.fxb");
-    let text = std::fs::read_to_string(
-        root().join("tests/data/fmt_fixed.fxb"),
-    )
-    .unwrap()
-    .replace("       7       9", "       7       7");
+    let text = std::fs::read_to_string(root().join("tests/data/fmt_fixed.fxb"))
+        .unwrap()
+        .replace("       7       9", "       7       7");
     std::fs::write(&bad, text).unwrap();
     let out = run(&["info", "--json", bad.to_str().unwrap()]);
     assert_eq!(out.status.code(), Some(2));
@@ -196,9 +193,7 @@ fn json_array(text: &str, key: &str) -> Option<Vec<f64>> {
 fn info_agrees_with_the_fixture_references() {
     let dir = std::env::var("FXBODY_FIXTURES_DIR")
         .map(std::path::PathBuf::from)
-        .unwrap_or_else(|_| {
-            root().join("fixtures")
-        });
+        .unwrap_or_else(|_| root().join("fixtures"));
     let mut checked = 0;
     for name in ["cantilever", "cantilever_damped", "freefree", "truss"] {
         let Ok(reference) = std::fs::read_to_string(dir.join(format!("{name}.ref.json"))) else {
@@ -247,10 +242,7 @@ fn info_agrees_with_the_fixture_references() {
 fn info_refuses_negative_damping() {
     let dir = std::env::temp_dir().join(format!("fxb_i13_neg_{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let mut f = fxbody::fxb::read_path(
-        &root().join("tests/data/fmt_dexp.fxb"),
-    )
-    .unwrap();
+    let mut f = fxbody::fxb::read_path(&root().join("tests/data/fmt_dexp.fxb")).unwrap();
     f.damping = Some((0.0, -1e-4));
     let p = dir.join("neg.fxb");
     std::fs::write(&p, fxbody::fxb::write(&f)).unwrap();

@@ -29,7 +29,7 @@ use std::collections::BTreeMap;
 use std::ptr::{null, null_mut};
 
 use crate::common::fmu::{
-    BEFORE, H, Packed, Slave, packed, print_counts, reference, run, same_bits,
+    AFTER, BEFORE, H, Packed, Slave, packed, print_counts, reference, run, same_bits,
 };
 use fxbody::fmi::exports::*;
 use fxbody::fmi::fmu_state::*;

@@ -3,8 +3,8 @@
 //! from before initialisation, and the logged reasons. References: a second run of the
 //! same FMU, which must match bit for bit.
 
-use fxbody_host::{FmuLibrary, Instance, file_uri};
 use fxbody::fmu::pack::Prepared;
+use fxbody_host::{FmuLibrary, Instance, file_uri};
 
 use crate::common::fmu::unpack_tip as packed;
 

@@ -407,7 +407,10 @@ fn a_state_of_another_fmu_is_refused() {
     let twin = reference(&a);
     let lib_a = FmuLibrary::open(&a.so).unwrap();
     let lib_b = FmuLibrary::open(&b.so).unwrap();
-    fn start<'l>(lib: &'l FmuLibrary, fx: &crate::common::fmu::Packed) -> fxbody_host::Instance<'l> {
+    fn start<'l>(
+        lib: &'l FmuLibrary,
+        fx: &crate::common::fmu::Packed,
+    ) -> fxbody_host::Instance<'l> {
         let i = lib.instantiate("guid", &fx.p.guid, &fx.uri, false).unwrap();
         i.setup(0.0, None).unwrap();
         i.enter_init().unwrap();
