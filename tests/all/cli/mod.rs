@@ -1,4 +1,4 @@
 //! The `fxbody` command run end to end as a user runs it.
 
 mod info;
-mod study;
+mod inputs;

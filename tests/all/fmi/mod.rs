@@ -8,5 +8,6 @@ mod call_sequence;
 mod header;
 mod host_abi;
 mod model_description;
+mod nonfinite;
 mod states;
 mod threads;

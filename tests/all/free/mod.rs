@@ -5,3 +5,4 @@ mod explicit;
 mod fe_reference;
 mod implicit;
 mod radioss_differences;
+mod validity;

@@ -4,6 +4,7 @@
 mod pack_fmax;
 mod pack_options;
 mod participation;
+mod placement;
 mod reduce;
 mod residual;
 mod truncation;

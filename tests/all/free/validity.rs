@@ -3,10 +3,7 @@
 //! its figures and the state unchanged out, then recovery; and a long run under torque
 //! against the analytic spin-up about a principal axis.
 
-use std::sync::Arc;
-
-use fxbody::fxb::coords::{read_coords, to_map};
-use fxbody::fxb::load_body;
+use crate::common::fixture_scene;
 use fxbody::scene::Scene;
 use fxbody::solver::free::{Explicit, MAX_FRAME_ERROR, SPIN_STEP, SPIN_WARN_RATIO};
 use fxbody::solver::{MAX_INTERNAL_STEPS, Method, Options, Solver, SolverError, build};
@@ -14,11 +11,7 @@ use nalgebra::{Matrix3, Vector3};
 
 /// A fixture body with one node exposed.
 fn scene(name: &str, node: i64) -> Scene {
-    let root = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures");
-    let body = load_body(&root.join(format!("{name}.fxb"))).unwrap();
-    let xyz = to_map(&read_coords(&root.join(format!("{name}.nodes.rad"))).unwrap());
-    let k = body.node_index(node).unwrap();
-    Scene::new(Arc::new(body), vec![k], vec![xyz[&node]])
+    fixture_scene(name, &[node])
 }
 
 /// Column `j` of P0 (local axis j in global components).

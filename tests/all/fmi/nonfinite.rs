@@ -20,12 +20,10 @@
     any(target_arch = "x86_64", target_arch = "aarch64")
 ))]
 
-mod robust_common;
-
+use crate::common::fmu::{AFTER, BEFORE, H, Packed, Slave, load, packed, run, same_bits};
 use fxbody::fmi::exports as x;
 use fxbody::fmi::state::FmiState;
 use fxbody::fmi::types::*;
-use robust_common::{AFTER, BEFORE, H, Packed, Slave, load, packed, run, same_bits};
 
 /// A slave with `method` (1 explicit, 2 implicit, 3 exact), set up and initialised.
 fn started(fx: &Packed, method: i32) -> Slave {

@@ -10,16 +10,19 @@
 //!   method, and the error does not grow as modes are added (it is checked against the
 //!   full FE model, not against our own untruncated run);
 //! - the chart has one panel per scene.
+//!
+//! It stays in the cli package (the study is a package of its own, run through the
+//! command), and being an integration test of that package it makes `cargo test` build
+//! target/release/fxbody, which the root package's tests (tests/all/cli and others) run
+//! through `fxbody_host::workspace_binary`.
 
 use std::path::PathBuf;
 use std::process::Command;
 
-use crate::common::root;
-
 fn run_quick() -> PathBuf {
     let out = std::env::temp_dir().join(format!("fxbody_study_smoke_{}", std::process::id()));
-    let fixtures = root().join("fixtures");
-    let status = Command::new(fxbody_host::workspace_binary("fxbody"))
+    let fixtures = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join("fixtures");
+    let status = Command::new(env!("CARGO_BIN_EXE_fxbody"))
         .args(["study", "--quick", "--fixtures"])
         .arg(&fixtures)
         .arg("--out")

@@ -6,6 +6,8 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+use crate::common::root;
+
 use fxbody::fmu::pack::{PackRequest, prepare};
 use fxbody::fmu::scene_io::{BODY_FILE, COORDS_FILE, OPTIONS_FILE, load_resources};
 use fxbody::fxb;
@@ -13,9 +15,7 @@ use fxbody::fxb;
 const BODY: &str = "body_b0_r1_d0.fxb";
 
 fn data(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data")
-        .join(name)
+    root().join("tests/data").join(name)
 }
 
 fn scratch(tag: &str) -> PathBuf {

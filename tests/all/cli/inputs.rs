@@ -3,14 +3,16 @@
 //! not what they claim (devices, FIFOs, compressed files, files far larger than their
 //! header can need) at once, with exit code 2 and a message naming the file.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::{Command, Output};
 use std::time::{Duration, Instant};
+
+use crate::common::root;
 
 fn run(args: &[&str]) -> Output {
     Command::new(fxbody_host::workspace_binary("fxbody"))
         .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .current_dir(root())
         .output()
         .expect("run fxbody")
 }
@@ -28,9 +30,7 @@ fn scratch(tag: &str) -> PathBuf {
 }
 
 fn data(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data")
-        .join(name)
+    root().join("tests/data").join(name)
 }
 
 #[test]
