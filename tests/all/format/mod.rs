@@ -1,0 +1,5 @@
+//! The `.fxb` text format: reading, the error messages, writing back.
+
+mod errors;
+mod read;
+mod roundtrip;
