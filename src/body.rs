@@ -6,9 +6,11 @@ use nalgebra::{DMatrix, DVector, Matrix3};
 use crate::fxb::FxbFile;
 
 mod checks;
+mod load;
 pub mod placement;
 
 pub use checks::{BodyError, MAX_LOCAL_MODES};
+pub use load::{LoadError, load, load_with_bytes};
 
 /// Rayleigh damping `C_L = alpha diag(m_L) + beta K_L` (block 4); zero when absent.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]

@@ -5,8 +5,8 @@
 
 use std::sync::Arc;
 
+use fxbody::body::load as load_body;
 use fxbody::fxb::coords::{read_coords, to_map};
-use fxbody::fxb::load_body;
 use fxbody::scene::Scene;
 use fxbody::solver::free::{Explicit, MAX_FRAME_ERROR, SPIN_STEP, SPIN_WARN_RATIO};
 use fxbody::solver::{MAX_INTERNAL_STEPS, Method, Options, Solver, SolverError, build};

@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use std::process::Command;
 
 use fxbody::body::Body;
-use fxbody::fxb::load_body;
+use fxbody::body::load as load_body;
 use fxbody::reduce::truncate;
 use nalgebra::{DMatrix, DVector};
 use serde_json::Value;

@@ -6,7 +6,8 @@
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use fxbody::fxb::{coords, load_body};
+use fxbody::body::load as load_body;
+use fxbody::fxb::coords;
 use fxbody::scene::Scene;
 use fxbody::solver::{Method, Options, build};
 

@@ -8,7 +8,8 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use fxbody::body::Body;
-use fxbody::fxb::{coords, load_body};
+use fxbody::body::load as load_body;
+use fxbody::fxb::coords;
 use fxbody::scene::Scene;
 use fxbody::solver::{Method, Options, Solver, build};
 use nalgebra::{DMatrix, DVector};

@@ -247,7 +247,7 @@ mod tests {
 
     fn instance() -> Box<Instance> {
         let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-        let body = crate::fxb::load_body(&root.join("fixtures/cantilever.fxb")).unwrap();
+        let body = crate::body::load(&root.join("fixtures/cantilever.fxb")).unwrap();
         let xyz = std::collections::HashMap::from([(121, [1.0, 0.0, 0.0])]);
         let opts = SceneOptions {
             name: "t".into(),

@@ -5,8 +5,8 @@
 use std::path::Path;
 use std::sync::Arc;
 
+use fxbody::body::load as load_body;
 use fxbody::fxb::coords::{read_coords, to_map};
-use fxbody::fxb::load_body;
 use fxbody::scene::Scene;
 use fxbody::solver::{Method, Options};
 
