@@ -148,7 +148,7 @@ pub struct Case {
 /// A fixture body with its tip node exposed, and its parsed reference file.
 pub fn fixture(dir: &Path, name: &str) -> Result<(Scene, Json), String> {
     let fxb = dir.join(format!("{name}.fxb"));
-    let body = load_body(&fxb).map_err(|e| format!("{}: {e}", fxb.display()))?;
+    let body = load_body(&fxb).map_err(|e| e.to_string())?;
     let refp = dir.join(format!("{name}.ref.json"));
     let text = std::fs::read_to_string(&refp).map_err(|e| format!("{}: {e}", refp.display()))?;
     let j = serde_json::from_str::<Json>(&text).map_err(|e| format!("{}: {e}", refp.display()))?;
