@@ -12,8 +12,8 @@ use std::path::Path;
 use std::sync::Arc;
 use std::time::Instant;
 
+use fxbody::body::load as load_body;
 use fxbody::body::{Body, stable_step};
-use fxbody::fxb::load_body;
 use fxbody::scene::Scene;
 use fxbody::solver::free::coords_from_rigid_modes;
 use fxbody::solver::{Method, Options, build};

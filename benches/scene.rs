@@ -10,8 +10,9 @@ use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::Instant;
 
+use fxbody::body::load as load_body;
 use fxbody::body::stable_step;
-use fxbody::fxb::{coords, load_body};
+use fxbody::fxb::coords;
 use fxbody::reduce::ModalBasis;
 use fxbody::scene::Scene;
 use fxbody::solver::{Method, Options, build};

@@ -6,9 +6,11 @@ use nalgebra::{DMatrix, DVector, Matrix3};
 use crate::fxb::FxbFile;
 
 mod checks;
+mod load;
 pub mod placement;
 
 pub use checks::{BodyError, MAX_LOCAL_MODES};
+pub use load::{LoadError, load, load_with_bytes};
 
 /// Rayleigh damping `C_L = alpha diag(m_L) + beta K_L` (block 4); zero when absent.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -33,7 +35,7 @@ pub struct Rayleigh {
 /// use std::path::Path;
 ///
 /// let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/cantilever.fxb");
-/// let body = fxbody::fxb::load_body(&path)?;
+/// let body = fxbody::body::load(&path)?;
 /// assert_eq!((body.nnodes(), body.nl(), body.nr()), (21, 20, 0)); // blocked: no rigid modes
 /// let f1 = body.frequencies_hz[0];
 /// assert!((f1 - 6.684133).abs() < 1e-5 * 6.684133, "{f1} Hz");

@@ -16,7 +16,8 @@ use crate::reduce::{ReduceError, Residual, Truncation, truncate};
 /// ```
 /// use std::{path::Path, sync::Arc};
 ///
-/// use fxbody::fxb::{coords, load_body};
+/// use fxbody::body::load as load_body;
+/// use fxbody::fxb::coords;
 /// use fxbody::scene::Scene;
 ///
 /// let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures");

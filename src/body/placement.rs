@@ -16,8 +16,38 @@ pub const PLACEMENT_TOL: f64 = 1e-6;
 /// A node ID, its position in the file and its position from the modes (L0 at 0).
 type Pair = (i64, [f64; 3], [f64; 3]);
 
-fn show(x: [f64; 3]) -> String {
+fn show(x: &[f64; 3]) -> String {
     format!("({}, {}, {})", num(x[0]), num(x[1]), num(x[2]))
+}
+
+/// A coordinate file whose nodes contradict a free body's rigid modes: the worst node,
+/// where the file and the modes put it, and what the misfit looks like.
+#[derive(Debug, thiserror::Error)]
+#[error(
+    "{coords}: node {id} is at {} but the rigid modes of {body} put it at {} \
+     (frame origin L0 at {} from the file's mean offset): off by {}, more than {} of the \
+     body's size {}; a coordinate file only places a free body, its nodes must match the modes{hint}",
+    show(.at_file), show(.at_modes), show(.origin), num(*.off), num(PLACEMENT_TOL), num(*.size)
+)]
+pub struct PlacementError {
+    /// The coordinate file.
+    pub coords: String,
+    /// The body file.
+    pub body: String,
+    /// The worst node's ID.
+    pub id: i64,
+    /// Its position in the coordinate file.
+    pub at_file: [f64; 3],
+    /// Its position from the rigid modes, placed at `origin`.
+    pub at_modes: [f64; 3],
+    /// The frame origin L0 the file's mean offset gives.
+    pub origin: [f64; 3],
+    /// The distance between the two positions.
+    pub off: f64,
+    /// The body's size (bounding-box diagonal).
+    pub size: f64,
+    /// A units hint when the file looks scaled (starts with "; "), or empty.
+    pub hint: String,
 }
 
 /// Check the coordinates `xyz` (by node ID) of a free body against its rigid modes and
@@ -26,13 +56,13 @@ fn show(x: [f64; 3]) -> String {
 /// some node is off by more than [`PLACEMENT_TOL`] times the body's size: the message
 /// names the worst node, both positions and, when the file is the modes' positions
 /// scaled by a power of ten, a hint about units. `coords_name` and `body_name` name the
-/// files in the message.
+/// files in the message. The error is boxed: it carries both positions and is large.
 pub fn check_coords(
     body: &Body,
     xyz: &HashMap<i64, [f64; 3]>,
     coords_name: &str,
     body_name: &str,
-) -> Result<Option<[f64; 3]>, String> {
+) -> Result<Option<[f64; 3]>, Box<PlacementError>> {
     let Some(derived) = body.rigid_mode_positions() else {
         return Ok(None);
     };
@@ -99,17 +129,17 @@ pub fn check_coords(
                 );
             }
         }
-        return Err(format!(
-            "{coords_name}: node {id} is at {} but the rigid modes of {body_name} put it at {} \
-             (frame origin L0 at {} from the file's mean offset): off by {}, more than {} of the \
-             body's size {}; a coordinate file only places a free body, its nodes must match the modes{hint}",
-            show(x),
-            show(placed(d)),
-            show(origin),
-            num(err),
-            num(PLACEMENT_TOL),
-            num(size)
-        ));
+        return Err(Box::new(PlacementError {
+            coords: coords_name.to_string(),
+            body: body_name.to_string(),
+            id,
+            at_file: x,
+            at_modes: placed(d),
+            origin,
+            off: err,
+            size,
+            hint,
+        }));
     }
     Ok(Some(origin))
 }

@@ -10,6 +10,7 @@
 use std::ffi::c_char;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
+use super::FmiError;
 use super::instance::*;
 use super::state::{self, FmiState};
 use super::types::*;
@@ -49,16 +50,16 @@ pub unsafe extern "C" fn fmi2SetDebugLogging(
         }
         for &p in names {
             // SAFETY: each entry is a NUL-terminated string (FMI contract).
-            let name = unsafe { text_arg(p) }.ok_or("a category name is NULL")?;
+            let name = unsafe { text_arg(p) }.ok_or(FmiError::Null("a category name"))?;
             let k = CATEGORIES
                 .iter()
                 .position(|c| c.to_bytes() == name.as_bytes())
                 .ok_or_else(|| {
                     let known: Vec<_> = CATEGORIES.iter().map(|c| c.to_string_lossy()).collect();
-                    format!(
-                        "unknown log category '{name}' (declared: {})",
-                        known.join(", ")
-                    )
+                    FmiError::UnknownCategory {
+                        name: name.clone(),
+                        declared: known.join(", "),
+                    }
                 })?;
             inst.log.enabled[k] = on;
         }
@@ -99,27 +100,23 @@ pub unsafe extern "C" fn fmi2Instantiate(
         name.as_deref().unwrap_or(""),
         loggingOn != fmi2False,
     );
-    let result = catch_unwind(AssertUnwindSafe(|| -> Result<Box<Instance>, String> {
+    let result = catch_unwind(AssertUnwindSafe(|| -> Result<Box<Instance>, FmiError> {
         if name.as_deref().is_none_or(str::is_empty) {
-            return Err("instanceName is NULL or empty".into());
+            return Err(FmiError::NoInstanceName);
         }
         if fmuType != fmi2CoSimulation {
-            return Err(format!(
-                "fmuType {fmuType}: this FMU provides co-simulation (1) only"
-            ));
+            return Err(FmiError::FmuType(fmuType));
         }
-        let guid = guid.ok_or("fmuGUID is NULL")?;
-        let location =
-            location.ok_or("fmuResourceLocation is NULL: the FMU needs its resources folder")?;
+        let guid = guid.ok_or(FmiError::Null("fmuGUID"))?;
+        let location = location.ok_or(FmiError::NoResourceLocation)?;
         let dir = resource_path(&location)?;
         let model = Model::from_resources(&dir)?;
         if model.guid != guid {
-            return Err(format!(
-                "GUID mismatch: the caller passed {guid} but the FMU's resources ({}) give {}; \
-                 the modelDescription.xml and the resources are from different packs",
-                dir.display(),
-                model.guid
-            ));
+            return Err(FmiError::GuidMismatch {
+                given: guid,
+                dir,
+                found: model.guid,
+            });
         }
         Ok(Box::new(Instance {
             log: Log::new(
@@ -204,7 +201,7 @@ pub unsafe extern "C" fn fmi2SetupExperiment(
     })
 }
 
-fn build_solver(inst: &mut Instance) -> Result<(), String> {
+fn build_solver(inst: &mut Instance) -> Result<(), FmiError> {
     if let Some(msg) = inst.model.ensure_solver()? {
         inst.log.send(fmi2OK, LOG_SOLVER, &msg);
     }
@@ -350,7 +347,7 @@ pub unsafe extern "C" fn fmi2GetRealStatus(
             );
         }
         if value.is_null() {
-            return Err("value pointer is NULL".into());
+            return Err(FmiError::Null("value pointer"));
         }
         // SAFETY: non-null and writable (FMI contract).
         unsafe { *value = inst.model.time() };
@@ -395,7 +392,7 @@ pub unsafe extern "C" fn fmi2GetBooleanStatus(
             );
         }
         if value.is_null() {
-            return Err("value pointer is NULL".into());
+            return Err(FmiError::Null("value pointer"));
         }
         // SAFETY: non-null and writable (FMI contract).
         unsafe { *value = fmi2False };

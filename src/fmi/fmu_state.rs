@@ -16,6 +16,7 @@
 
 #![allow(non_snake_case, clippy::missing_safety_doc)]
 
+use super::FmiError;
 use super::instance::*;
 use super::state::{self, FmiState};
 use super::types::*;
@@ -88,50 +89,88 @@ impl Header {
     }
 }
 
+/// A state handle this instance cannot use: NULL, not an fxbody state, or made by
+/// another build or another FMU.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum HandleError {
+    /// NULL.
+    #[error("FMUstate is NULL")]
+    Null,
+    /// Not aligned as an fxbody handle is.
+    #[error("FMUstate was not made by an fxbody FMU (misaligned handle)")]
+    Misaligned,
+    /// No fxbody header.
+    #[error(
+        "FMUstate was not made by an fxbody FMU (no fxbody state header): a state \
+         belongs to the FMU whose instance made it"
+    )]
+    NoHeader,
+    /// Made by an fxbody build with another handle layout.
+    #[error(
+        "FMUstate was made by another fxbody build (layout tag {layout:016x}, this build \
+         {this_layout:016x}) for GUID {guid}; this instance is {instance}"
+    )]
+    OtherBuild {
+        /// The handle's layout tag.
+        layout: u64,
+        /// This build's.
+        this_layout: u64,
+        /// The GUID in the handle.
+        guid: String,
+        /// This instance's GUID.
+        instance: String,
+    },
+    /// Made by another FMU.
+    #[error(
+        "FMUstate belongs to the FMU with GUID {guid}, this instance is GUID {instance}: a \
+         state can only be restored into an instance of the FMU that made it"
+    )]
+    OtherFmu {
+        /// The GUID in the handle.
+        guid: String,
+        /// This instance's GUID.
+        instance: String,
+    },
+}
+
 /// The handle behind `s`, if it is a live handle made by this build for the FMU with
 /// `guid`; otherwise a message naming what it is.
 ///
 /// # Safety
 /// `s` is NULL or points to a live object of at least 8 bytes (FMI: a state handle
 /// returned by some FMU and not yet freed).
-unsafe fn handle<'a>(s: fmi2FMUstate, guid: &str) -> Result<&'a mut Handle, String> {
+unsafe fn handle<'a>(s: fmi2FMUstate, guid: &str) -> Result<&'a mut Handle, HandleError> {
     if s.is_null() {
-        return Err("FMUstate is NULL".into());
+        return Err(HandleError::Null);
     }
     if s.cast::<Header>()
         .align_offset(std::mem::align_of::<Header>())
         != 0
     {
-        return Err("FMUstate was not made by an fxbody FMU (misaligned handle)".into());
+        return Err(HandleError::Misaligned);
     }
     // SAFETY: non-null, aligned, and by the caller's contract at least 8 live bytes.
     let magic = unsafe { s.cast::<u64>().read() };
     if magic != MAGIC {
-        return Err(
-            "FMUstate was not made by an fxbody FMU (no fxbody state header): a state \
-             belongs to the FMU whose instance made it"
-                .into(),
-        );
+        return Err(HandleError::NoHeader);
     }
     // SAFETY: the magic number says this is a handle of some fxbody build, all of which
     // start with this fixed-layout (repr(C)) header; it is copied out, not referenced.
     let head = unsafe { s.cast::<Header>().read() };
     if head.layout != layout_tag() {
-        return Err(format!(
-            "FMUstate was made by another fxbody build (layout tag {:016x}, this build \
-             {:016x}) for GUID {}; this instance is {guid}",
-            head.layout,
-            layout_tag(),
-            head.guid()
-        ));
+        return Err(HandleError::OtherBuild {
+            layout: head.layout,
+            this_layout: layout_tag(),
+            guid: head.guid(),
+            instance: guid.to_string(),
+        });
     }
     let mine = header_for(guid);
     if head.guid_hash != mine.guid_hash || head.guid_len != mine.guid_len {
-        return Err(format!(
-            "FMUstate belongs to the FMU with GUID {}, this instance is GUID {guid}: a \
-             state can only be restored into an instance of the FMU that made it",
-            head.guid()
-        ));
+        return Err(HandleError::OtherFmu {
+            guid: head.guid(),
+            instance: guid.to_string(),
+        });
     }
     // SAFETY: header, layout tag and GUID match: `s` is a Box<Handle> this build made
     // for this FMU (from fmi2GetFMUstate or fmi2DeSerializeFMUstate), not yet freed; FMI
@@ -155,7 +194,7 @@ fn snapshot_of(inst: &Instance) -> Snapshot {
 pub unsafe extern "C" fn fmi2GetFMUstate(c: fmi2Component, state: *mut fmi2FMUstate) -> fmi2Status {
     enter(c, "fmi2GetFMUstate", state::GET_FMU_STATE, |inst| {
         if state.is_null() {
-            return Err("FMUstate pointer is NULL".into());
+            return Err(FmiError::Null("FMUstate pointer"));
         }
         let snap = snapshot_of(inst);
         // SAFETY: non-null and writable (FMI contract).
@@ -186,8 +225,7 @@ unsafe fn store_state(state: *mut fmi2FMUstate, snap: Snapshot, guid: &str) -> O
 }
 
 fn restore(inst: &mut Instance, snap: &Snapshot) -> Outcome {
-    let phase = FmiState::from_code(snap.phase)
-        .ok_or_else(|| format!("saved state has an unknown phase code {}", snap.phase))?;
+    let phase = FmiState::from_code(snap.phase).ok_or(FmiError::UnknownPhase(snap.phase))?;
     inst.model.restore(snap)?;
     inst.state = phase;
     Ok(fmi2OK)
@@ -253,7 +291,7 @@ pub unsafe extern "C" fn fmi2SerializedFMUstateSize(
             // SAFETY: `state` is a live state; its header is checked first.
             let snap = &unsafe { handle(state, &inst.model.guid) }?.snap;
             if size.is_null() {
-                return Err("size pointer is NULL".into());
+                return Err(FmiError::Null("size pointer"));
             }
             let n = snap.to_bytes(&inst.model.guid).len();
             // SAFETY: non-null and writable (FMI contract).
@@ -280,10 +318,10 @@ pub unsafe extern "C" fn fmi2SerializeFMUstate(
         let snap = &unsafe { handle(state, &inst.model.guid) }?.snap;
         let bytes = snap.to_bytes(&inst.model.guid);
         if size != bytes.len() {
-            return Err(format!(
-                "buffer is {size} bytes, the state needs {} (use fmi2SerializedFMUstateSize)",
-                bytes.len()
-            ));
+            return Err(FmiError::BufferTooSmall {
+                size,
+                needs: bytes.len(),
+            });
         }
         // SAFETY: `serializedState` holds `size` writable bytes.
         let out = unsafe { slice_mut(serializedState.cast::<u8>(), size, "serializedState") }?;
@@ -308,11 +346,11 @@ pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
         // SAFETY: `serializedState` holds `size` bytes.
         let bytes = unsafe { slice(serializedState.cast::<u8>(), size, "serializedState") }?;
         if state.is_null() {
-            return Err("FMUstate pointer is NULL".into());
+            return Err(FmiError::Null("FMUstate pointer"));
         }
         let snap = Snapshot::from_bytes(bytes, &inst.model.guid)?;
         if snap.loads.len() != 6 * inst.model.scene().nodes.len() {
-            return Err("serialized state has a different number of inputs than this FMU".into());
+            return Err(FmiError::StateInputs);
         }
         // SAFETY: `state` is non-null and writable, `*state` NULL or live (FMI contract).
         unsafe { store_state(state, snap, &inst.model.guid) }

@@ -5,6 +5,7 @@
 use std::ffi::{CStr, CString, c_char};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
+use super::FmiError;
 use super::state::FmiState;
 use super::types::*;
 use crate::fmu::model::Model;
@@ -128,9 +129,10 @@ impl Instance {
     }
 }
 
-/// What an export's body returns: a status to pass on (OK, Warning, Discard), or an
-/// error message (logged, the instance goes to the Error state, fmi2Error returned).
-pub type Outcome = Result<fmi2Status, String>;
+/// What an export's body returns: a status to pass on (OK, Warning, Discard), or why
+/// the call was refused (logged, the instance goes to the Error state, fmi2Error
+/// returned).
+pub type Outcome = Result<fmi2Status, FmiError>;
 
 /// Run an export's body on the instance behind `c`: refuse NULL, check the call is legal
 /// in the current state (`mask`; in Error, also in the state before the error, whose
@@ -174,9 +176,9 @@ pub fn enter(
     let inst = unsafe { &mut *ptr };
     match result {
         Ok(Ok(status)) => status,
-        Ok(Err(msg)) => {
+        Ok(Err(error)) => {
             inst.log
-                .send(fmi2Error, LOG_ERROR, &format!("{func}: {msg}"));
+                .send(fmi2Error, LOG_ERROR, &format!("{func}: {error}"));
             inst.fail();
             fmi2Error
         }
@@ -211,12 +213,12 @@ pub fn panic_text(p: &(dyn std::any::Any + Send)) -> String {
 ///
 /// # Safety
 /// For `n > 0`, `p` is NULL (reported as an error) or points to `n` valid elements.
-pub unsafe fn slice<'a, T>(p: *const T, n: usize, what: &str) -> Result<&'a [T], String> {
+pub unsafe fn slice<'a, T>(p: *const T, n: usize, what: &'static str) -> Result<&'a [T], FmiError> {
     if n == 0 {
         return Ok(&[]);
     }
     if p.is_null() {
-        return Err(format!("{what} is NULL with {n} elements"));
+        return Err(FmiError::NullArray { what, n });
     }
     // SAFETY: non-null and `n` valid elements by the caller's contract.
     Ok(unsafe { std::slice::from_raw_parts(p, n) })
@@ -227,12 +229,16 @@ pub unsafe fn slice<'a, T>(p: *const T, n: usize, what: &str) -> Result<&'a [T],
 /// # Safety
 /// For `n > 0`, `p` is NULL (reported) or points to `n` writable elements not aliased
 /// by any other argument.
-pub unsafe fn slice_mut<'a, T>(p: *mut T, n: usize, what: &str) -> Result<&'a mut [T], String> {
+pub unsafe fn slice_mut<'a, T>(
+    p: *mut T,
+    n: usize,
+    what: &'static str,
+) -> Result<&'a mut [T], FmiError> {
     if n == 0 {
         return Ok(&mut []);
     }
     if p.is_null() {
-        return Err(format!("{what} is NULL with {n} elements"));
+        return Err(FmiError::NullArray { what, n });
     }
     // SAFETY: non-null and `n` writable, unaliased elements by the caller's contract.
     Ok(unsafe { std::slice::from_raw_parts_mut(p, n) })
@@ -247,7 +253,7 @@ mod tests {
 
     fn instance() -> Box<Instance> {
         let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-        let body = crate::fxb::load_body(&root.join("fixtures/cantilever.fxb")).unwrap();
+        let body = crate::body::load(&root.join("fixtures/cantilever.fxb")).unwrap();
         let xyz = std::collections::HashMap::from([(121, [1.0, 0.0, 0.0])]);
         let opts = SceneOptions {
             name: "t".into(),
@@ -310,7 +316,7 @@ mod tests {
         let c: fmi2Component = raw.cast();
         assert_eq!(
             enter(c, "fmi2Test", FmiState::Instantiated.bit(), |_| Err(
-                "bad".into()
+                FmiError::NoDirectionalDerivative
             )),
             fmi2Error
         );

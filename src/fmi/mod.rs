@@ -15,6 +15,7 @@
 // Every block says why it holds (clippy::undocumented_unsafe_blocks).
 #![allow(unsafe_code)]
 
+mod error;
 pub mod exports;
 pub mod fmu_state;
 #[doc(hidden)]
@@ -24,6 +25,8 @@ pub mod state;
 pub mod types;
 mod uri;
 pub mod values;
+
+pub use error::FmiError;
 
 /// The C header cbindgen generated for this build (build.rs). The committed
 /// `include/fxbody.h` must equal it; `tests/all/fmi/header.rs` checks.

@@ -6,8 +6,42 @@ use std::ffi::OsString;
 use std::os::unix::ffi::OsStringExt;
 use std::path::PathBuf;
 
+/// A resource location that does not name a local folder; each names the location.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum UriError {
+    /// A `file://host/` URI with a host other than localhost.
+    #[error(
+        "resource location '{uri}': host '{host}' is not local (expected file:///path or file://localhost/path)"
+    )]
+    NotLocal {
+        /// The location.
+        uri: String,
+        /// The host.
+        host: String,
+    },
+    /// Neither a file URI nor an absolute path.
+    #[error("resource location '{0}' is not a file URI (expected file:///absolute/path)")]
+    NotFile(String),
+    /// A file URI whose path is not absolute.
+    #[error("resource location '{0}' does not name an absolute path")]
+    NotAbsolute(String),
+    /// A `%` not followed by two hex digits.
+    #[error(
+        "resource location '{uri}': bad percent escape at byte {at}: expected %XX with two hex digits"
+    )]
+    BadEscape {
+        /// The location.
+        uri: String,
+        /// The byte offset of the `%` in the path.
+        at: usize,
+    },
+    /// `%00` in the path.
+    #[error("resource location '{0}' decodes to a path with a NUL byte")]
+    Nul(String),
+}
+
 /// The local folder a resource URI names.
-pub fn resource_path(uri: &str) -> Result<PathBuf, String> {
+pub fn resource_path(uri: &str) -> Result<PathBuf, UriError> {
     let path = if let Some(rest) = strip_prefix_ignore_case(uri, "file:") {
         if let Some(after) = rest.strip_prefix("//") {
             // Authority: empty or localhost.
@@ -16,9 +50,10 @@ pub fn resource_path(uri: &str) -> Result<PathBuf, String> {
                 None => (after, ""),
             };
             if !(host.is_empty() || host.eq_ignore_ascii_case("localhost")) {
-                return Err(format!(
-                    "resource location '{uri}': host '{host}' is not local (expected file:///path or file://localhost/path)"
-                ));
+                return Err(UriError::NotLocal {
+                    uri: uri.to_string(),
+                    host: host.to_string(),
+                });
             }
             p
         } else {
@@ -27,22 +62,19 @@ pub fn resource_path(uri: &str) -> Result<PathBuf, String> {
     } else if uri.starts_with('/') {
         uri
     } else {
-        return Err(format!(
-            "resource location '{uri}' is not a file URI (expected file:///absolute/path)"
-        ));
+        return Err(UriError::NotFile(uri.to_string()));
     };
     // Query or fragment parts have no meaning for a folder.
     let path = path.split(['?', '#']).next().unwrap_or("");
     if !path.starts_with('/') {
-        return Err(format!(
-            "resource location '{uri}' does not name an absolute path"
-        ));
+        return Err(UriError::NotAbsolute(uri.to_string()));
     }
-    let bytes = percent_decode(path).map_err(|e| format!("resource location '{uri}': {e}"))?;
+    let bytes = percent_decode(path).map_err(|at| UriError::BadEscape {
+        uri: uri.to_string(),
+        at,
+    })?;
     if bytes.contains(&0) {
-        return Err(format!(
-            "resource location '{uri}' decodes to a path with a NUL byte"
-        ));
+        return Err(UriError::Nul(uri.to_string()));
     }
     let mut p = PathBuf::from(OsString::from_vec(bytes));
     // PathBuf ignores a trailing slash in joins already; normalise it for messages.
@@ -58,7 +90,8 @@ fn strip_prefix_ignore_case<'a>(s: &'a str, prefix: &str) -> Option<&'a str> {
     .then(|| &s[prefix.len()..])
 }
 
-fn percent_decode(s: &str) -> Result<Vec<u8>, String> {
+/// The bytes `s` encodes; `Err(k)`: the `%` at byte `k` has no two hex digits after it.
+fn percent_decode(s: &str) -> Result<Vec<u8>, usize> {
     let b = s.as_bytes();
     let mut out = Vec::with_capacity(b.len());
     let mut k = 0;
@@ -71,9 +104,7 @@ fn percent_decode(s: &str) -> Result<Vec<u8>, String> {
             ) {
                 (Some(h), Some(l)) => out.push((h * 16 + l) as u8),
                 _ => {
-                    return Err(format!(
-                        "bad percent escape at byte {k}: expected %XX with two hex digits"
-                    ));
+                    return Err(k);
                 }
             }
             k += 3;
@@ -114,28 +145,38 @@ mod tests {
         assert!(
             resource_path("file://server/share")
                 .unwrap_err()
+                .to_string()
                 .contains("not local")
         );
         assert!(
             resource_path("file:///a%2")
                 .unwrap_err()
+                .to_string()
                 .contains("percent")
         );
         assert!(
             resource_path("file:///a%zz")
                 .unwrap_err()
+                .to_string()
                 .contains("percent")
         );
         assert!(
             resource_path("http://x/y")
                 .unwrap_err()
+                .to_string()
                 .contains("not a file URI")
         );
         assert!(
             resource_path("file:relative/x")
                 .unwrap_err()
+                .to_string()
                 .contains("absolute")
         );
-        assert!(resource_path("file:///a%00b").unwrap_err().contains("NUL"));
+        assert!(
+            resource_path("file:///a%00b")
+                .unwrap_err()
+                .to_string()
+                .contains("NUL")
+        );
     }
 }

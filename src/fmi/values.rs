@@ -4,6 +4,7 @@
 
 #![allow(non_snake_case, clippy::missing_safety_doc)]
 
+use super::FmiError;
 use super::instance::*;
 use super::state::{self, FmiState};
 use super::types::*;
@@ -60,12 +61,10 @@ pub unsafe extern "C" fn fmi2GetInteger(
     })
 }
 
-fn no_variables(kind: &str, vrs: &[fmi2ValueReference]) -> Outcome {
+fn no_variables(kind: &'static str, vrs: &[fmi2ValueReference]) -> Outcome {
     match vrs.first() {
         None => Ok(fmi2OK),
-        Some(r) => Err(format!(
-            "value reference {r}: this FMU has no {kind} variables"
-        )),
+        Some(&vr) => Err(FmiError::NoVariables { vr, kind }),
     }
 }
 
@@ -209,7 +208,7 @@ pub unsafe extern "C" fn fmi2GetDirectionalDerivative(
         c,
         "fmi2GetDirectionalDerivative",
         state::GET_DIRECTIONAL_DERIVATIVE,
-        |_| Err("not provided by this FMU (providesDirectionalDerivative=\"false\")".into()),
+        |_| Err(FmiError::NoDirectionalDerivative),
     )
 }
 

@@ -5,6 +5,7 @@ pub mod doc;
 pub mod guard;
 pub mod hash;
 pub mod model;
+mod model_error;
 pub mod options;
 pub mod pack;
 pub mod scene_io;

@@ -6,11 +6,12 @@
 use std::path::Path;
 
 use super::guard::{StepGuard, largest_input};
-use super::scene_io::{Resources, load_resources};
+pub use super::model_error::{ModelError, StepRefused, TimeError};
+use super::scene_io::{ResourceError, Resources, load_resources};
 use super::snapshot::Snapshot;
 use super::vars::{Causality, Kind, VarTable, method_from_value, method_name};
 use crate::scene::Scene;
-use crate::solver::{self, Method, Options, Solver};
+use crate::solver::{self, Method, Options, Solver, SolverError};
 
 /// When a value is set: before the end of initialisation parameters may change; after
 /// it only inputs.
@@ -90,42 +91,27 @@ pub fn check_step_times(
     time: f64,
     start: f64,
     stop: Option<f64>,
-) -> Result<(), String> {
-    use crate::num::num;
+) -> Result<(), TimeError> {
     if !(h.is_finite() && h > 0.0) {
-        return Err(format!(
-            "communicationStepSize must be finite and > 0, got {}",
-            num(h)
-        ));
+        return Err(TimeError::StepSize(h));
     }
     // A NaN time compares false, so it is not close and is refused.
     let tol = time_tolerance(t, time, start, h);
     if !(t.is_finite() && (t - time).abs() <= tol) {
-        return Err(format!(
-            "currentCommunicationPoint {} is not the FMU's current time {} (difference {}, \
-             tolerance {})",
-            num(t),
-            num(time),
-            num(t - time),
-            num(tol)
-        ));
+        return Err(TimeError::NotCurrent { t, time, tol });
     }
     let end = t + h;
     if let Some(stop) = stop
         && !(end.is_finite() && (end <= stop || end - stop <= time_tolerance(end, stop, start, h)))
     {
-        return Err(format!(
-            "the step to {} goes past stopTime {}",
-            num(end),
-            num(stop)
-        ));
+        return Err(TimeError::PastStop { end, stop });
     }
     Ok(())
 }
 
 impl Model {
     /// Read the resources folder and set up a model at its start values.
-    pub fn from_resources(dir: &Path) -> Result<Model, String> {
+    pub fn from_resources(dir: &Path) -> Result<Model, ResourceError> {
         let Resources { scene, guid, .. } = load_resources(dir)?;
         Ok(Model::new(scene, guid))
     }
@@ -172,19 +158,14 @@ impl Model {
     }
 
     /// Record the experiment's start and stop time (fmi2SetupExperiment).
-    pub fn setup(&mut self, start: f64, stop: Option<f64>) -> Result<(), String> {
-        use crate::num::num;
+    pub fn setup(&mut self, start: f64, stop: Option<f64>) -> Result<(), ModelError> {
         if !start.is_finite() {
-            return Err(format!("startTime must be finite, got {}", num(start)));
+            return Err(TimeError::Start(start).into());
         }
         if let Some(s) = stop
             && (s.is_nan() || s < start)
         {
-            return Err(format!(
-                "stopTime {} is before startTime {} (or NaN)",
-                num(s),
-                num(start)
-            ));
+            return Err(TimeError::StopBeforeStart { stop: s, start }.into());
         }
         self.start_time = start;
         self.stop_time = stop;
@@ -194,12 +175,16 @@ impl Model {
 
     /// Build the solver if none exists or a parameter changed. Returns a description
     /// of what was built, for the solver log category.
-    pub fn ensure_solver(&mut self) -> Result<Option<String>, String> {
+    pub fn ensure_solver(&mut self) -> Result<Option<String>, ModelError> {
         if self.solver.is_some() && !self.dirty {
             return Ok(None);
         }
-        let s = solver::build(&self.scene, self.method, &self.opts)
-            .map_err(|e| format!("cannot build the {} solver: {e}", method_name(self.method)))?;
+        let s = solver::build(&self.scene, self.method, &self.opts).map_err(|source| {
+            ModelError::Build {
+                method: method_name(self.method),
+                source,
+            }
+        })?;
         self.solver = Some(s);
         self.dirty = false;
         self.loads_dirty = true;
@@ -213,38 +198,41 @@ impl Model {
         )))
     }
 
-    fn var(&self, vr: u32) -> Result<&super::vars::Variable, String> {
-        self.table.get(vr).ok_or_else(|| {
-            format!(
-                "unknown value reference {vr} (this FMU has 0..{})",
-                self.table.vars.len()
-            )
+    fn var(&self, vr: u32) -> Result<&super::vars::Variable, ModelError> {
+        self.table.get(vr).ok_or(ModelError::UnknownReference {
+            vr,
+            count: self.table.vars.len(),
         })
     }
 
     /// Whether [`Model::set_real`] would accept `v` for `vr`, without changing anything.
-    pub fn check_real(&self, vr: u32, v: f64, phase: Phase) -> Result<(), String> {
+    pub fn check_real(&self, vr: u32, v: f64, phase: Phase) -> Result<(), ModelError> {
         // No clone of the variable: this runs on every fmi2SetReal and must not allocate.
         let var = self.var(vr)?;
         if var.is_integer() {
-            return Err(format!(
-                "{} (vr {vr}) is an Enumeration: set it with fmi2SetInteger",
-                var.name
-            ));
+            return Err(ModelError::WrongType {
+                name: var.name.clone(),
+                vr,
+                is: "an Enumeration",
+                use_instead: "set it with fmi2SetInteger",
+            });
         }
         check_settable(var, phase)?;
         if !v.is_finite() {
-            return Err(format!("{}: value must be finite, got {v}", var.name));
+            return Err(ModelError::NonFinite {
+                name: var.name.clone(),
+                value: v,
+            });
         }
         if var.kind == Kind::RhoInf && !(0.0..=1.0).contains(&v) {
-            return Err(format!("rho_inf must be in [0, 1], got {v}"));
+            return Err(ModelError::RhoInf(v));
         }
         Ok(())
     }
 
     /// Set Real variables: all or none (a refused value leaves every variable as it
     /// was, so a master's error does not half-apply a set of loads).
-    pub fn set_reals(&mut self, vrs: &[u32], vals: &[f64], phase: Phase) -> Result<(), String> {
+    pub fn set_reals(&mut self, vrs: &[u32], vals: &[f64], phase: Phase) -> Result<(), ModelError> {
         for (&r, &v) in vrs.iter().zip(vals) {
             self.check_real(r, v, phase)?;
         }
@@ -255,11 +243,9 @@ impl Model {
     }
 
     /// Set a Real variable.
-    pub fn set_real(&mut self, vr: u32, v: f64, phase: Phase) -> Result<(), String> {
+    pub fn set_real(&mut self, vr: u32, v: f64, phase: Phase) -> Result<(), ModelError> {
         self.check_real(vr, v, phase)?;
-        let Some(var) = self.table.get(vr) else {
-            return Err(format!("unknown value reference {vr}"));
-        };
+        let var = self.var(vr)?;
         match var.kind {
             Kind::RhoInf => {
                 self.opts.rho_inf = v;
@@ -290,7 +276,12 @@ impl Model {
     }
 
     /// Set Integer variables: all or none, like [`Model::set_reals`].
-    pub fn set_integers(&mut self, vrs: &[u32], vals: &[i32], phase: Phase) -> Result<(), String> {
+    pub fn set_integers(
+        &mut self,
+        vrs: &[u32],
+        vals: &[i32],
+        phase: Phase,
+    ) -> Result<(), ModelError> {
         let (method, dirty) = (self.method, self.dirty);
         for (&r, &v) in vrs.iter().zip(vals) {
             if let Err(e) = self.set_integer(r, v, phase) {
@@ -302,13 +293,15 @@ impl Model {
     }
 
     /// Set the Integer (Enumeration) variable `method`.
-    pub fn set_integer(&mut self, vr: u32, v: i32, phase: Phase) -> Result<(), String> {
+    pub fn set_integer(&mut self, vr: u32, v: i32, phase: Phase) -> Result<(), ModelError> {
         let var = self.var(vr)?;
         if !var.is_integer() {
-            return Err(format!(
-                "{} (vr {vr}) is a Real: set it with fmi2SetReal",
-                var.name
-            ));
+            return Err(ModelError::WrongType {
+                name: var.name.clone(),
+                vr,
+                is: "a Real",
+                use_instead: "set it with fmi2SetReal",
+            });
         }
         check_settable(var, phase)?;
         let Some(m) = method_from_value(v).filter(|m| self.table.methods().contains(m)) else {
@@ -318,10 +311,10 @@ impl Model {
                 .iter()
                 .map(|&m| format!("{}={}", method_name(m), m as i32))
                 .collect();
-            return Err(format!(
-                "method: {v} is not offered for this body (offered: {})",
-                offered.join(", ")
-            ));
+            return Err(ModelError::MethodNotOffered {
+                value: v,
+                offered: offered.join(", "),
+            });
         };
         if m != self.method {
             self.method = m;
@@ -331,7 +324,7 @@ impl Model {
     }
 
     /// Get Real values for `vrs` into `out` (same length). Needs a solver.
-    pub fn get_reals(&mut self, vrs: &[u32], out: &mut [f64]) -> Result<(), String> {
+    pub fn get_reals(&mut self, vrs: &[u32], out: &mut [f64]) -> Result<(), ModelError> {
         self.ensure_solver()?;
         // A truncated scene's positions depend on the same-instant loads (residual
         // flexibility): pass changed loads before reading.
@@ -339,11 +332,11 @@ impl Model {
             && self.loads_dirty
             && let Some(s) = self.solver.as_mut()
         {
-            s.set_loads(&self.loads).map_err(|e| e.to_string())?;
+            s.set_loads(&self.loads)?;
             self.loads_dirty = false;
         }
         let Some(s) = self.solver.as_ref() else {
-            return Err("no solver".into());
+            return Err(ModelError::NoSolver);
         };
         // Only what is asked for: a master polling one position pays for that position
         // (one row) when the method can give it alone, otherwise for the positions only;
@@ -351,16 +344,19 @@ impl Model {
         let (mut all_pos, mut all_vel) = (false, false);
         for (&vr, o) in vrs.iter().zip(out.iter_mut()) {
             let Some(var) = self.table.get(vr) else {
-                return Err(format!(
-                    "unknown value reference {vr} (this FMU has 0..{})",
-                    self.table.vars.len()
-                ));
+                return Err(ModelError::UnknownReference {
+                    vr,
+                    count: self.table.vars.len(),
+                });
             };
             *o = match var.kind {
                 Kind::Method => {
-                    return Err(format!(
-                        "method (vr {vr}) is an Enumeration: get it with fmi2GetInteger"
-                    ));
+                    return Err(ModelError::WrongType {
+                        name: var.name.clone(),
+                        vr,
+                        is: "an Enumeration",
+                        use_instead: "get it with fmi2GetInteger",
+                    });
                 }
                 Kind::RhoInf => self.opts.rho_inf,
                 Kind::Gravity(c) => self.scene.gravity[c],
@@ -394,13 +390,15 @@ impl Model {
     }
 
     /// Get the Integer (Enumeration) `method`.
-    pub fn get_integer(&self, vr: u32) -> Result<i32, String> {
+    pub fn get_integer(&self, vr: u32) -> Result<i32, ModelError> {
         let var = self.var(vr)?;
         if !var.is_integer() {
-            return Err(format!(
-                "{} (vr {vr}) is a Real: get it with fmi2GetReal",
-                var.name
-            ));
+            return Err(ModelError::WrongType {
+                name: var.name.clone(),
+                vr,
+                is: "a Real",
+                use_instead: "get it with fmi2GetReal",
+            });
         }
         Ok(self.method as i32)
     }
@@ -411,7 +409,7 @@ impl Model {
         vrs: &[u32],
         orders: &[i32],
         vals: &[f64],
-    ) -> Result<(), String> {
+    ) -> Result<(), ModelError> {
         for pass in 0..2 {
             for ((&r, &o), &v) in vrs.iter().zip(orders).zip(vals) {
                 let slot = self.input_rate_slot(r, o, v)?;
@@ -424,29 +422,29 @@ impl Model {
     }
 
     /// Where the input rate for `vr` goes, if `order` and `v` are acceptable.
-    fn input_rate_slot(&self, vr: u32, order: i32, v: f64) -> Result<usize, String> {
+    fn input_rate_slot(&self, vr: u32, order: i32, v: f64) -> Result<usize, ModelError> {
         let var = self.var(vr)?;
         let Kind::Load { node, comp } = var.kind else {
-            return Err(format!(
-                "{} is not an input: input derivatives apply to inputs only",
-                var.name
-            ));
+            return Err(ModelError::NotAnInput(var.name.clone()));
         };
         if order != 1 {
-            return Err(format!(
-                "{}: derivative order {order} is not supported (inputs are interpolated linearly: order 1 only)",
-                var.name
-            ));
+            return Err(ModelError::InputOrder {
+                name: var.name.clone(),
+                order,
+            });
         }
         if !v.is_finite() {
-            return Err(format!("{}: derivative must be finite, got {v}", var.name));
+            return Err(ModelError::NonFiniteRate {
+                name: var.name.clone(),
+                value: v,
+            });
         }
         Ok(6 * node + comp)
     }
 
     /// Set the time derivative of order 1 of an input (fmi2SetRealInputDerivatives).
     /// It applies to the next step only: each doStep clears the rates.
-    pub fn set_input_rate(&mut self, vr: u32, order: i32, v: f64) -> Result<(), String> {
+    pub fn set_input_rate(&mut self, vr: u32, order: i32, v: f64) -> Result<(), ModelError> {
         let slot = self.input_rate_slot(vr, order, v)?;
         self.rates[slot] = v;
         Ok(())
@@ -454,11 +452,11 @@ impl Model {
 
     /// Derivative of order 1 or 2 of an output (fmi2GetRealOutputDerivatives): positions
     /// give velocities and accelerations, velocities give accelerations (order 1).
-    pub fn get_output_derivative(&mut self, vr: u32, order: i32) -> Result<f64, String> {
+    pub fn get_output_derivative(&mut self, vr: u32, order: i32) -> Result<f64, ModelError> {
         let var = self.var(vr)?;
         let (kind, name) = (var.kind, &var.name);
         let Some(s) = self.solver.as_ref() else {
-            return Err("no solver".into());
+            return Err(ModelError::NoSolver);
         };
         match (kind, order) {
             (Kind::Position { node, comp }, 1) => {
@@ -469,19 +467,20 @@ impl Model {
                 s.accelerations(&mut self.acc);
                 Ok(self.acc[3 * node + comp])
             }
-            _ => Err(format!(
-                "{name}: no derivative of order {order} (available: node positions orders 1 and 2, node velocities order 1)"
-            )),
+            _ => Err(ModelError::NoOutputDerivative {
+                name: name.clone(),
+                order,
+            }),
         }
     }
 
     /// One communication step from `t` to `t + h`. `Ok(Some(text))` is a completed step
     /// with a warning for the master (fmi2Warning).
-    pub fn do_step(&mut self, t: f64, h: f64) -> Result<Option<String>, String> {
+    pub fn do_step(&mut self, t: f64, h: f64) -> Result<Option<String>, ModelError> {
         check_step_times(t, h, self.time, self.start_time, self.stop_time)?;
         self.ensure_solver()?;
         let Some(s) = self.solver.as_mut() else {
-            return Err("no solver".into());
+            return Err(ModelError::NoSolver);
         };
         // The state before the step, put back if the step fails or leaves a non-finite
         // number anywhere (guard.rs): a refused step changes nothing.
@@ -503,37 +502,35 @@ impl Model {
                     input_magnitude(&self.loads, &self.rates, h),
                 )
                 .map(|what| {
-                    crate::solver::SolverError::NonFinite {
+                    let cause = SolverError::NonFinite {
                         what,
                         cause: format!(
                             "largest input: {}",
                             largest_input(&self.table, &self.loads, &self.rates)
                         ),
-                    }
-                    .to_string()
+                    };
+                    (cause, None)
                 }),
             // A solver refusal (frame no longer a rotation, budget, singular system) under a
             // load names that load too: it is usually the cause.
-            Err(e) if self.loads.iter().chain(&self.rates).any(|&x| x != 0.0) => Some(format!(
-                "{e} (largest input: {})",
-                largest_input(&self.table, &self.loads, &self.rates)
+            Err(e) if self.loads.iter().chain(&self.rates).any(|&x| x != 0.0) => Some((
+                e,
+                Some(largest_input(&self.table, &self.loads, &self.rates)),
             )),
-            Err(e) => Some(e),
+            Err(e) => Some((e, None)),
         };
-        if let Some(e) = bad {
+        if let Some((cause, largest_input)) = bad {
             // The solver gets the loads and rates again at the next step.
-            let back = self.guard.rollback(s.as_mut());
+            let restored = self.guard.rollback(s.as_mut());
             self.loads_dirty = true;
             self.rates_applied = true;
-            return Err(format!(
-                "step from t = {} with h = {} refused: {e}{}",
-                crate::num::num(t),
-                crate::num::num(h),
-                match back {
-                    Ok(()) => format!("; the FMU keeps its state at t = {}", crate::num::num(t)),
-                    Err(b) => format!("; the state before the step could not be put back: {b}"),
-                }
-            ));
+            return Err(ModelError::StepRefused(Box::new(StepRefused {
+                t,
+                h,
+                cause,
+                largest_input,
+                restored,
+            })));
         }
         let rates_on = self.rates.iter().any(|&r| r != 0.0);
         self.loads_dirty = false;
@@ -585,8 +582,8 @@ impl Model {
     /// Restore a snapshot taken from a model of the same scene: all or nothing. A
     /// snapshot with non-finite or out-of-range values is refused before anything
     /// changes; one the solver refuses (wrong size) leaves the model as it was.
-    pub fn restore(&mut self, snap: &Snapshot) -> Result<(), String> {
-        check_snapshot(snap)?;
+    pub fn restore(&mut self, snap: &Snapshot) -> Result<(), ModelError> {
+        snap.check()?;
         let backup = self.snapshot(0);
         self.restore_unchecked(snap).inspect_err(|_| {
             // The backup came from this model, so it restores; if not, the caller
@@ -595,17 +592,16 @@ impl Model {
         })
     }
 
-    fn restore_unchecked(&mut self, snap: &Snapshot) -> Result<(), String> {
+    fn restore_unchecked(&mut self, snap: &Snapshot) -> Result<(), ModelError> {
         if snap.loads.len() != self.loads.len() || snap.rates.len() != self.rates.len() {
-            return Err(format!(
-                "state holds {} loads, this FMU has {}",
-                snap.loads.len(),
-                self.loads.len()
-            ));
+            return Err(ModelError::StateLoads {
+                held: snap.loads.len(),
+                have: self.loads.len(),
+            });
         }
         let method = method_from_value(snap.method)
             .filter(|m| self.table.methods().contains(m))
-            .ok_or_else(|| format!("state holds method {}, not offered here", snap.method))?;
+            .ok_or(ModelError::StateMethod(snap.method))?;
         let params_differ = method != self.method
             || snap.rho_inf != self.opts.rho_inf
             || snap.gravity != self.scene.gravity
@@ -630,7 +626,7 @@ impl Model {
             Some(st) => {
                 self.ensure_solver()?;
                 if let Some(s) = self.solver.as_mut() {
-                    s.set_state(st).map_err(|e| e.to_string())?;
+                    s.set_state(st)?;
                 }
             }
             None => {
@@ -651,60 +647,23 @@ fn step_solver(
     rates: &[f64],
     loads_dirty: bool,
     rates_applied: bool,
-) -> Result<(), String> {
+) -> Result<(), SolverError> {
     let rates_on = rates.iter().any(|&r| r != 0.0);
     if loads_dirty || rates_applied || rates_on {
-        s.set_loads(loads).map_err(|e| e.to_string())?;
+        s.set_loads(loads)?;
     }
     if rates_on || rates_applied {
-        s.set_load_rates(rates).map_err(|e| e.to_string())?;
+        s.set_load_rates(rates)?;
     }
-    s.step(h).map_err(|e| e.to_string())
-}
-
-/// Refuse a snapshot whose numbers no running model can hold (only reachable with
-/// hand-made bytes: the checksum stops accidental damage).
-fn check_snapshot(snap: &Snapshot) -> Result<(), String> {
-    let finite = |what: &str, v: &[f64]| {
-        if v.iter().all(|x| x.is_finite()) {
-            Ok(())
-        } else {
-            Err(format!("saved state: {what} holds a non-finite number"))
-        }
-    };
-    finite("time", &[snap.time, snap.start_time])?;
-    finite(
-        "gravity, v0, w0",
-        &[snap.gravity, snap.v0, snap.w0].concat(),
-    )?;
-    finite("loads", &snap.loads)?;
-    finite("input rates", &snap.rates)?;
-    if !(0.0..=1.0).contains(&snap.rho_inf) {
-        return Err(format!(
-            "saved state: rho_inf {} is not in [0, 1]",
-            snap.rho_inf
-        ));
-    }
-    if let Some(stop) = snap.stop_time
-        && (stop.is_nan() || stop < snap.start_time)
-    {
-        return Err(format!(
-            "saved state: stopTime {stop} is before startTime {}",
-            snap.start_time
-        ));
-    }
-    Ok(())
+    s.step(h)
 }
 
 /// Whether `var` may be set in `phase`: never an output, parameters only before the end
 /// of initialisation.
-fn check_settable(var: &super::vars::Variable, phase: Phase) -> Result<(), String> {
+fn check_settable(var: &super::vars::Variable, phase: Phase) -> Result<(), ModelError> {
     match (var.causality, phase) {
-        (Causality::Output, _) => Err(format!("{} is an output: it cannot be set", var.name)),
-        (Causality::Parameter, Phase::Running) => Err(format!(
-            "{} is a fixed parameter: set it before fmi2ExitInitializationMode",
-            var.name
-        )),
+        (Causality::Output, _) => Err(ModelError::Output(var.name.clone())),
+        (Causality::Parameter, Phase::Running) => Err(ModelError::FixedParameter(var.name.clone())),
         _ => Ok(()),
     }
 }

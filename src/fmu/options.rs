@@ -8,6 +8,74 @@
 
 use std::fmt::Write;
 
+/// A unit system name that is neither SI nor mm-t-s.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("unknown unit system '{0}': expected SI (m, kg, s) or mm-t-s (mm, tonne, s)")]
+pub struct UnknownUnits(pub String);
+
+/// Why scene.txt was refused; `at` is `file:line`, `file` the file's name.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum OptionsError {
+    /// A line that is not `key = value`.
+    #[error("{at}: expected 'key = value', found '{line}'")]
+    NotKeyValue {
+        /// File and line.
+        at: String,
+        /// The line's text.
+        line: String,
+    },
+    /// `nodes` with something that is not an integer.
+    #[error("{at}: nodes: expected integer node IDs, found '{value}' ({source})")]
+    Nodes {
+        /// File and line.
+        at: String,
+        /// The value text.
+        value: String,
+        /// The integer parser's complaint.
+        source: std::num::ParseIntError,
+    },
+    /// `units` naming no known system.
+    #[error("{at}: {source}")]
+    Units {
+        /// File and line.
+        at: String,
+        /// The unknown name.
+        source: UnknownUnits,
+    },
+    /// `fmax` that is not a finite frequency > 0.
+    #[error("{at}: fmax: expected a frequency > 0 (Hz), found '{value}'")]
+    Fmax {
+        /// File and line.
+        at: String,
+        /// The value text.
+        value: String,
+    },
+    /// A key this version does not know.
+    #[error("{at}: unknown key '{key}'")]
+    UnknownKey {
+        /// File and line.
+        at: String,
+        /// The key.
+        key: String,
+    },
+    /// No `format = 1` line (absent, or another version).
+    #[error("{file}: expected 'format = 1', found {}", .found.as_ref().map_or("no format line".to_string(), |f| format!("'format = {f}'")))]
+    Format {
+        /// The file.
+        file: String,
+        /// The format value found, if any.
+        found: Option<String>,
+    },
+    /// A required key is absent.
+    #[error("{file}: missing '{key} = ...'")]
+    Missing {
+        /// The file.
+        file: String,
+        /// The key.
+        key: &'static str,
+    },
+}
+
 /// A unit system for the declared units (`pack --units NAME`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum UnitSystem {
@@ -19,13 +87,11 @@ pub enum UnitSystem {
 
 impl UnitSystem {
     /// Parse a `--units` name: `SI` or `mm-t-s` (case-insensitive).
-    pub fn parse(name: &str) -> Result<UnitSystem, String> {
+    pub fn parse(name: &str) -> Result<UnitSystem, UnknownUnits> {
         match name.to_ascii_lowercase().as_str() {
             "si" => Ok(UnitSystem::Si),
             "mm-t-s" | "mmts" => Ok(UnitSystem::MmTonneS),
-            _ => Err(format!(
-                "unknown unit system '{name}': expected SI (m, kg, s) or mm-t-s (mm, tonne, s)"
-            )),
+            _ => Err(UnknownUnits(name.to_string())),
         }
     }
 
@@ -89,7 +155,7 @@ impl SceneOptions {
     }
 
     /// Read scene.txt text; `file` names it in messages.
-    pub fn parse(text: &str, file: &str) -> Result<SceneOptions, String> {
+    pub fn parse(text: &str, file: &str) -> Result<SceneOptions, OptionsError> {
         let mut name = None;
         let mut nodes = None;
         let mut units = None;
@@ -102,7 +168,10 @@ impl SceneOptions {
             }
             let at = format!("{file}:{}", k + 1);
             let Some((key, value)) = line.split_once('=') else {
-                return Err(format!("{at}: expected 'key = value', found '{line}'"));
+                return Err(OptionsError::NotKeyValue {
+                    at,
+                    line: line.to_string(),
+                });
             };
             let value = value.trim();
             match key.trim() {
@@ -111,34 +180,51 @@ impl SceneOptions {
                 "nodes" => {
                     let ids: Result<Vec<i64>, _> =
                         value.split_whitespace().map(str::parse::<i64>).collect();
-                    nodes = Some(ids.map_err(|e| {
-                        format!("{at}: nodes: expected integer node IDs, found '{value}' ({e})")
+                    nodes = Some(ids.map_err(|source| OptionsError::Nodes {
+                        at: at.clone(),
+                        value: value.to_string(),
+                        source,
                     })?);
                 }
                 "units" => {
-                    units = Some(UnitSystem::parse(value).map_err(|e| format!("{at}: {e}"))?)
+                    units = Some(
+                        UnitSystem::parse(value)
+                            .map_err(|source| OptionsError::Units { at, source })?,
+                    )
                 }
                 "fmax" => {
                     let f = value
                         .parse::<f64>()
                         .ok()
                         .filter(|f| f.is_finite() && *f > 0.0);
-                    fmax = Some(f.ok_or_else(|| {
-                        format!("{at}: fmax: expected a frequency > 0 (Hz), found '{value}'")
+                    fmax = Some(f.ok_or_else(|| OptionsError::Fmax {
+                        at,
+                        value: value.to_string(),
                     })?);
                 }
-                other => return Err(format!("{at}: unknown key '{other}'")),
+                other => {
+                    return Err(OptionsError::UnknownKey {
+                        at,
+                        key: other.to_string(),
+                    });
+                }
             }
         }
         if format.as_deref() != Some("1") {
-            return Err(format!(
-                "{file}: expected 'format = 1', found {}",
-                format.map_or("no format line".to_string(), |f| format!("'format = {f}'"))
-            ));
+            return Err(OptionsError::Format {
+                file: file.to_string(),
+                found: format,
+            });
         }
         Ok(SceneOptions {
-            name: name.ok_or_else(|| format!("{file}: missing 'name = ...'"))?,
-            nodes: nodes.ok_or_else(|| format!("{file}: missing 'nodes = ...'"))?,
+            name: name.ok_or_else(|| OptionsError::Missing {
+                file: file.to_string(),
+                key: "name",
+            })?,
+            nodes: nodes.ok_or_else(|| OptionsError::Missing {
+                file: file.to_string(),
+                key: "nodes",
+            })?,
             units,
             fmax,
         })
@@ -164,9 +250,13 @@ mod tests {
 
     #[test]
     fn bad_text_is_refused_with_line() {
-        let e = SceneOptions::parse("format = 1\nname = a\nnodes = 1 x\n", "s.txt").unwrap_err();
+        let e = SceneOptions::parse("format = 1\nname = a\nnodes = 1 x\n", "s.txt")
+            .unwrap_err()
+            .to_string();
         assert!(e.starts_with("s.txt:3: nodes"), "{e}");
-        let e = SceneOptions::parse("format = 2\nname = a\nnodes = 1\n", "s.txt").unwrap_err();
+        let e = SceneOptions::parse("format = 2\nname = a\nnodes = 1\n", "s.txt")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("format = 2"), "{e}");
     }
 }

@@ -4,22 +4,152 @@
 use std::path::{Path, PathBuf};
 
 use super::doc::index_html;
-use super::options::{SceneOptions, UnitSystem};
+use super::options::{SceneOptions, UnitSystem, UnknownUnits};
 use super::scene_io::{
-    BODY_FILE, COORDS_FILE, OPTIONS_FILE, coords_csv, coords_from_rigid_modes, guid, make_scene,
-    summary,
+    BODY_FILE, COORDS_FILE, OPTIONS_FILE, SceneError, coords_csv, coords_from_rigid_modes, guid,
+    make_scene, summary,
 };
 use super::vars::VarTable;
 use super::xml::model_description;
-use super::zip::{Entry, write};
-use crate::body::Body;
-use crate::fxb::{self, coords};
+use super::zip::{Entry, ZipError, write};
+use crate::body::placement::PlacementError;
+use crate::body::{self, LoadError};
+use crate::fxb::coords::{self, CoordsError};
 use crate::scene::Scene;
 
-/// Why packing failed (the message says what and where).
+/// Why packing failed: each names the file or option at fault.
 #[derive(Debug, thiserror::Error)]
-#[error("{0}")]
-pub struct PackError(pub String);
+pub enum PackError {
+    /// The body file could not be read or is not a valid body.
+    #[error(transparent)]
+    Body(#[from] LoadError),
+    /// The coordinate file could not be read or parsed.
+    #[error(transparent)]
+    Coords(#[from] CoordsError),
+    /// A blocked body and no coordinate file.
+    #[error(
+        "{0}: a blocked body needs node coordinates (a .fxb file holds none): \
+         give --coords with a Radioss /NODE deck or a CSV file id,x,y,z"
+    )]
+    BlockedNeedsCoords(String),
+    /// The coordinate file contradicts the body's rigid modes.
+    #[error(transparent)]
+    Placement(#[from] Box<PlacementError>),
+    /// `--nodes` names a node the body does not have.
+    #[error("--nodes: node {id} is not a node of {body} (its nodes: {nodes})")]
+    UnknownNode {
+        /// The node ID.
+        id: i64,
+        /// The body file.
+        body: String,
+        /// A summary of the body's node IDs.
+        nodes: String,
+    },
+    /// Exposed nodes without coordinates.
+    #[error("{coords}: no coordinates for node(s) {ids} of {body}")]
+    MissingCoordinates {
+        /// The coordinate file, or "derived coordinates".
+        coords: String,
+        /// A summary of the node IDs.
+        ids: String,
+        /// The body file.
+        body: String,
+    },
+    /// `--units` names no known system.
+    #[error(transparent)]
+    Units(#[from] UnknownUnits),
+    /// `--name` is not a usable model name.
+    #[error(transparent)]
+    Name(#[from] NameError),
+    /// No `--name` and the file stem is too long to be one.
+    #[error(
+        "{body}: the model name would be the file name's {chars} characters, more than {MAX_NAME}: give --name"
+    )]
+    StemTooLong {
+        /// The body file.
+        body: String,
+        /// The stem's length in characters.
+        chars: usize,
+    },
+    /// The exposed nodes do not make a scene.
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+    /// `-o` names one of the inputs.
+    #[error(
+        "-o {}: is the same file as the {what} {}: refusing to overwrite an input; choose another output name",
+        .out.display(), .input.display()
+    )]
+    Overwrite {
+        /// The output path.
+        out: PathBuf,
+        /// What the input is ("body file", ...).
+        what: String,
+        /// The input path.
+        input: PathBuf,
+    },
+    /// `--lib` names no file.
+    #[error("--lib {}: no such file", .0.display())]
+    NoLib(PathBuf),
+    /// `FXBODY_LIB` names no file.
+    #[error("FXBODY_LIB={}: no such file", .0.display())]
+    NoEnvLib(PathBuf),
+    /// The running executable's path is unknown (needed to find the library).
+    #[error("cannot locate the running executable: {0}")]
+    Exe(std::io::Error),
+    /// No library next to the executable.
+    #[error(
+        "cannot find the FMU library libfxbody.so (looked at {0}): build it with `cargo build --release`, \
+         or give --lib PATH or FXBODY_LIB"
+    )]
+    LibNotFound(String),
+    /// The library could not be read.
+    #[error("{}: cannot read the library: {source}", .path.display())]
+    ReadLib {
+        /// The library path.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// The archive could not be built.
+    #[error(transparent)]
+    Zip(#[from] ZipError),
+    /// The FMU could not be written.
+    #[error("{}: cannot write the FMU: {source}", .path.display())]
+    WriteFmu {
+        /// The output path.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+}
+
+/// A `--name` that cannot be a model identifier; `shown` is the name as quoted in the
+/// message (cut after 40 characters).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum NameError {
+    /// Empty or longer than [`MAX_NAME`].
+    #[error("--name: expected 1 to {MAX_NAME} characters, found {shown}")]
+    Length {
+        /// The name as shown.
+        shown: String,
+    },
+    /// A character outside letters, digits and `_`.
+    #[error(
+        "--name: expected letters, digits and '_' only (a file name and a C identifier), found {c:?} in {shown}"
+    )]
+    Character {
+        /// The first such character.
+        c: char,
+        /// The name as shown.
+        shown: String,
+    },
+    /// A digit first.
+    #[error("--name: expected a letter or '_' first (a C identifier), found {shown}")]
+    DigitFirst {
+        /// The name as shown.
+        shown: String,
+    },
+}
 
 /// What to pack.
 #[derive(Debug, Clone, Default)]
@@ -76,36 +206,29 @@ pub enum Fmax {
 /// (here and in the FMU, from the full file) keeps the modes up to it plus the residual
 /// flexibility of the rest ([`crate::reduce`]).
 pub fn prepare_with(req: &PackRequest, fmax: Option<Fmax>) -> Result<Prepared, PackError> {
-    let e = |s: String| PackError(s);
     let body_name = req.body.display().to_string();
-    let body_bytes = fxb::read_bytes(&req.body).map_err(|err| e(err.to_string()))?;
-    let file = fxb::parse(&body_bytes, &body_name).map_err(|err| e(err.to_string()))?;
-    let body = Body::from_fxb(&file, &body_name).map_err(|err| e(err.to_string()))?;
+    let (body, body_bytes) = body::load_with_bytes(&req.body)?;
     let mut notes: Vec<String> = body
         .warnings
         .iter()
         .map(|w| format!("warning: {w}"))
         .collect();
     let xyz = match &req.coords {
-        Some(p) => coords::read_coords(p).map_err(|err| e(err.to_string()))?,
+        Some(p) => coords::read_coords(p)?,
         None => match coords_from_rigid_modes(&body) {
             Some(c) => {
                 notes.push("no --coords: node coordinates derived from the rigid modes, frame origin L0 at (0, 0, 0)".into());
                 c
             }
             None => {
-                return Err(e(format!(
-                    "{body_name}: a blocked body needs node coordinates (a .fxb file holds none): \
-                     give --coords with a Radioss /NODE deck or a CSV file id,x,y,z"
-                )));
+                return Err(PackError::BlockedNeedsCoords(body_name));
             }
         },
     };
     let map = coords::to_map(&xyz);
     if let Some(c) = &req.coords
         && let Some(o) =
-            crate::body::placement::check_coords(&body, &map, &c.display().to_string(), &body_name)
-                .map_err(e)?
+            crate::body::placement::check_coords(&body, &map, &c.display().to_string(), &body_name)?
     {
         notes.push(format!(
             "{}: node positions match the rigid modes; frame origin L0 placed at ({}, {}, {})",
@@ -118,10 +241,11 @@ pub fn prepare_with(req: &PackRequest, fmax: Option<Fmax>) -> Result<Prepared, P
     let nodes = req.nodes.clone().unwrap_or_else(|| body.node_ids.clone());
     for id in &nodes {
         if body.node_index(*id).is_none() {
-            return Err(e(format!(
-                "--nodes: node {id} is not a node of {body_name} (its nodes: {})",
-                summary(&body.node_ids)
-            )));
+            return Err(PackError::UnknownNode {
+                id: *id,
+                body: body_name,
+                nodes: summary(&body.node_ids),
+            });
         }
     }
     let missing: Vec<i64> = nodes
@@ -130,26 +254,22 @@ pub fn prepare_with(req: &PackRequest, fmax: Option<Fmax>) -> Result<Prepared, P
         .filter(|id| !map.contains_key(id))
         .collect();
     if !missing.is_empty() {
-        return Err(e(format!(
-            "{}: no coordinates for node(s) {} of {body_name}",
-            req.coords
+        return Err(PackError::MissingCoordinates {
+            coords: req
+                .coords
                 .as_ref()
-                .map_or("derived coordinates".to_string(), |p| p
-                    .display()
-                    .to_string()),
-            summary(&missing)
-        )));
+                .map_or("derived coordinates".to_string(), |p| {
+                    p.display().to_string()
+                }),
+            ids: summary(&missing),
+            body: body_name,
+        });
     }
     let stem = req
         .body
         .file_stem()
         .map_or("fxbody".to_string(), |s| s.to_string_lossy().into_owned());
-    let units = req
-        .units
-        .as_deref()
-        .map(UnitSystem::parse)
-        .transpose()
-        .map_err(e)?;
+    let units = req.units.as_deref().map(UnitSystem::parse).transpose()?;
     let fmax = match fmax {
         None => None,
         Some(Fmax::Hz(f)) => Some(f),
@@ -173,12 +293,12 @@ pub fn prepare_with(req: &PackRequest, fmax: Option<Fmax>) -> Result<Prepared, P
         ));
     }
     match &req.name {
-        Some(n) => check_name(n).map_err(e)?,
+        Some(n) => check_name(n)?,
         None if stem.chars().count() > MAX_NAME => {
-            return Err(e(format!(
-                "{body_name}: the model name would be the file name's {} characters, more than {MAX_NAME}: give --name",
-                stem.chars().count()
-            )));
+            return Err(PackError::StemTooLong {
+                body: body_name,
+                chars: stem.chars().count(),
+            });
         }
         None => {}
     }
@@ -199,7 +319,7 @@ pub fn prepare_with(req: &PackRequest, fmax: Option<Fmax>) -> Result<Prepared, P
     let coords_text = coords_csv(&stored);
     let options_text = options.to_text();
     let guid = guid(&body_bytes, coords_text.as_bytes(), &options_text);
-    let scene = make_scene(body, &map, &options, &body_name).map_err(e)?;
+    let scene = make_scene(body, &map, &options, &body_name)?;
     let table = VarTable::new(&scene);
     if all_exposed && table.vars.len() > 1000 {
         notes.push(format!(
@@ -229,7 +349,7 @@ pub const MAX_NAME: usize = 64;
 /// Check a model name given by the user: 1 to [`MAX_NAME`] characters, a letter or `_`
 /// first, then letters, digits or `_`, so it is usable unchanged as a file name and a
 /// C identifier (the FMI modelIdentifier).
-pub fn check_name(name: &str) -> Result<(), String> {
+pub fn check_name(name: &str) -> Result<(), NameError> {
     let shown = if name.chars().count() > 40 {
         format!(
             "'{}...' ({} characters)",
@@ -240,22 +360,16 @@ pub fn check_name(name: &str) -> Result<(), String> {
         format!("'{name}'")
     };
     if name.is_empty() || name.len() > MAX_NAME {
-        return Err(format!(
-            "--name: expected 1 to {MAX_NAME} characters, found {shown}"
-        ));
+        return Err(NameError::Length { shown });
     }
     if let Some(c) = name
         .chars()
         .find(|c| !(c.is_ascii_alphanumeric() || *c == '_'))
     {
-        return Err(format!(
-            "--name: expected letters, digits and '_' only (a file name and a C identifier), found {c:?} in {shown}"
-        ));
+        return Err(NameError::Character { c, shown });
     }
     if name.starts_with(|c: char| c.is_ascii_digit()) {
-        return Err(format!(
-            "--name: expected a letter or '_' first (a C identifier), found {shown}"
-        ));
+        return Err(NameError::DigitFirst { shown });
     }
     Ok(())
 }
@@ -273,11 +387,11 @@ pub fn refuse_overwrite(out: &Path, inputs: &[(&str, &Path)]) -> Result<(), Pack
             && m.dev() == o.dev()
             && m.ino() == o.ino()
         {
-            return Err(PackError(format!(
-                "-o {}: is the same file as the {what} {}: refusing to overwrite an input; choose another output name",
-                out.display(),
-                p.display()
-            )));
+            return Err(PackError::Overwrite {
+                out: out.to_path_buf(),
+                what: what.to_string(),
+                input: p.to_path_buf(),
+            });
         }
     }
     Ok(())
@@ -290,7 +404,7 @@ pub fn find_library(explicit: Option<&Path>) -> Result<PathBuf, PackError> {
         return if p.is_file() {
             Ok(p.to_path_buf())
         } else {
-            Err(PackError(format!("--lib {}: no such file", p.display())))
+            Err(PackError::NoLib(p.to_path_buf()))
         };
     }
     if let Some(p) = std::env::var_os("FXBODY_LIB") {
@@ -298,14 +412,10 @@ pub fn find_library(explicit: Option<&Path>) -> Result<PathBuf, PackError> {
         return if p.is_file() {
             Ok(p)
         } else {
-            Err(PackError(format!(
-                "FXBODY_LIB={}: no such file",
-                p.display()
-            )))
+            Err(PackError::NoEnvLib(p))
         };
     }
-    let exe = std::env::current_exe()
-        .map_err(|err| PackError(format!("cannot locate the running executable: {err}")))?;
+    let exe = std::env::current_exe().map_err(PackError::Exe)?;
     let mut tried = Vec::new();
     let mut dir = exe.parent();
     for _ in 0..2 {
@@ -317,11 +427,7 @@ pub fn find_library(explicit: Option<&Path>) -> Result<PathBuf, PackError> {
         tried.push(p.display().to_string());
         dir = d.parent();
     }
-    Err(PackError(format!(
-        "cannot find the FMU library libfxbody.so (looked at {}): build it with `cargo build --release`, \
-         or give --lib PATH or FXBODY_LIB",
-        tried.join(", ")
-    )))
+    Err(PackError::LibNotFound(tried.join(", ")))
 }
 
 /// The archive bytes for a prepared scene and the library bytes.
@@ -359,7 +465,7 @@ pub fn archive(p: &Prepared, lib: &[u8]) -> Result<Vec<u8>, PackError> {
             mode: 0o644,
         },
     ];
-    write(&entries).map_err(PackError)
+    Ok(write(&entries)?)
 }
 
 /// Pack `req` with the library at `lib` into `out`. Returns the prepared scene.
@@ -410,10 +516,14 @@ pub fn pack_with(
     }
     refuse_overwrite(out, &inputs)?;
     let p = prepare_with(req, fmax)?;
-    let lib_bytes = std::fs::read(lib)
-        .map_err(|err| PackError(format!("{}: cannot read the library: {err}", lib.display())))?;
+    let lib_bytes = std::fs::read(lib).map_err(|source| PackError::ReadLib {
+        path: lib.to_path_buf(),
+        source,
+    })?;
     let bytes = archive(&p, &lib_bytes)?;
-    std::fs::write(out, bytes)
-        .map_err(|err| PackError(format!("{}: cannot write the FMU: {err}", out.display())))?;
+    std::fs::write(out, bytes).map_err(|source| PackError::WriteFmu {
+        path: out.to_path_buf(),
+        source,
+    })?;
     Ok(p)
 }

@@ -3,14 +3,79 @@
 //! its resources/ folder), so both derive the same scene and the same GUID.
 
 use std::collections::HashMap;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use super::hash::content_guid;
-use super::options::SceneOptions;
-use crate::body::Body;
+use super::options::{OptionsError, SceneOptions};
+use crate::body::placement::PlacementError;
+use crate::body::{self, Body, LoadError};
 use crate::fxb::{self, coords};
+use crate::reduce::ReduceError;
 use crate::scene::Scene;
+
+/// Why the exposed nodes do not make a scene (shared by `pack` and the FMU).
+#[derive(Debug, thiserror::Error)]
+pub enum SceneError {
+    /// An exposed node ID the body does not have.
+    #[error("{body}: node {id} is not a node of this body (its nodes: {nodes})")]
+    UnknownNode {
+        /// The body file.
+        body: String,
+        /// The node ID.
+        id: i64,
+        /// A summary of the body's node IDs ([`summary`]).
+        nodes: String,
+    },
+    /// An exposed node ID given twice.
+    #[error("node {0} is listed twice")]
+    Repeated(i64),
+    /// An exposed node without coordinates.
+    #[error("no coordinates for node {0}: the coordinate file does not list it")]
+    NoCoordinates(i64),
+    /// No exposed node at all.
+    #[error("no exposed nodes: give at least one node ID")]
+    NoNodes,
+    /// Mode truncation (`fmax`) failed.
+    #[error("{body}: {source}")]
+    Truncation {
+        /// The body file.
+        body: String,
+        /// Why.
+        source: ReduceError,
+    },
+}
+
+/// Why an FMU could not load its `resources/` folder: each error names the file.
+#[derive(Debug, thiserror::Error)]
+pub enum ResourceError {
+    /// A file could not be read.
+    #[error("cannot read {}: {source}", .path.display())]
+    Read {
+        /// The file.
+        path: PathBuf,
+        /// The reader's error.
+        source: std::io::Error,
+    },
+    /// scene.txt is not UTF-8.
+    #[error("{}: not UTF-8 text", .0.display())]
+    NotUtf8(PathBuf),
+    /// scene.txt was refused.
+    #[error(transparent)]
+    Options(#[from] OptionsError),
+    /// body.fxb could not be read or is not a valid body.
+    #[error(transparent)]
+    Body(#[from] LoadError),
+    /// coords.csv could not be parsed.
+    #[error(transparent)]
+    Coords(#[from] coords::CoordsError),
+    /// coords.csv contradicts the body's rigid modes.
+    #[error(transparent)]
+    Placement(#[from] Box<PlacementError>),
+    /// The exposed nodes do not make a scene.
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+}
 
 /// File names inside `resources/`.
 pub const BODY_FILE: &str = "body.fxb";
@@ -39,29 +104,28 @@ pub fn make_scene(
     xyz: &HashMap<i64, [f64; 3]>,
     opts: &SceneOptions,
     body_name: &str,
-) -> Result<Scene, String> {
+) -> Result<Scene, SceneError> {
     let mut nodes = Vec::with_capacity(opts.nodes.len());
     let mut x0 = Vec::with_capacity(opts.nodes.len());
     for &id in &opts.nodes {
         let Some(k) = body.node_index(id) else {
-            return Err(format!(
-                "{body_name}: node {id} is not a node of this body (its nodes: {})",
-                summary(&body.node_ids)
-            ));
+            return Err(SceneError::UnknownNode {
+                body: body_name.to_string(),
+                id,
+                nodes: summary(&body.node_ids),
+            });
         };
         if nodes.contains(&k) {
-            return Err(format!("node {id} is listed twice"));
+            return Err(SceneError::Repeated(id));
         }
         let Some(&x) = xyz.get(&id) else {
-            return Err(format!(
-                "no coordinates for node {id}: the coordinate file does not list it"
-            ));
+            return Err(SceneError::NoCoordinates(id));
         };
         nodes.push(k);
         x0.push(x);
     }
     if nodes.is_empty() {
-        return Err("no exposed nodes: give at least one node ID".into());
+        return Err(SceneError::NoNodes);
     }
     let scene = Scene::new(Arc::new(body), nodes, x0);
     match opts.fmax {
@@ -70,7 +134,10 @@ pub fn make_scene(
         Some(f) => scene
             .truncated(f)
             .map(|(s, _)| s)
-            .map_err(|e| format!("{body_name}: {e}")),
+            .map_err(|source| SceneError::Truncation {
+                body: body_name.to_string(),
+                source,
+            }),
         None => Ok(scene),
     }
 }
@@ -127,31 +194,25 @@ pub struct Resources {
 }
 
 /// Read `resources/` (body, coordinates, options) and rebuild the scene and GUID.
-pub fn load_resources(dir: &Path) -> Result<Resources, String> {
+pub fn load_resources(dir: &Path) -> Result<Resources, ResourceError> {
     let read = |name: &str| {
-        let p = dir.join(name);
-        fxb::input::read_regular(&p).map_err(|e| format!("cannot read {}: {e}", p.display()))
+        let path = dir.join(name);
+        fxb::input::read_regular(&path).map_err(|source| ResourceError::Read { path, source })
     };
-    let body_bytes = read(BODY_FILE)?;
+    let body_path = dir.join(BODY_FILE);
+    let (body, body_bytes) = body::load_with_bytes(&body_path)?;
     let coords_bytes = read(COORDS_FILE)?;
     let options_bytes = read(OPTIONS_FILE)?;
     let options_text = String::from_utf8(options_bytes)
-        .map_err(|_| format!("{}: not UTF-8 text", dir.join(OPTIONS_FILE).display()))?;
-    let body_path = dir.join(BODY_FILE).display().to_string();
+        .map_err(|_| ResourceError::NotUtf8(dir.join(OPTIONS_FILE)))?;
+    let body_name = body_path.display().to_string();
     let options =
         SceneOptions::parse(&options_text, &dir.join(OPTIONS_FILE).display().to_string())?;
-    let file = fxb::parse(&body_bytes, &body_path).map_err(|e| e.to_string())?;
-    let body = Body::from_fxb(&file, &body_path).map_err(|e| e.to_string())?;
-    let xyz = coords::parse_csv(&coords_bytes, &dir.join(COORDS_FILE).display().to_string())
-        .map_err(|e| e.to_string())?;
+    let coords_name = dir.join(COORDS_FILE).display().to_string();
+    let xyz = coords::parse_csv(&coords_bytes, &coords_name)?;
     let map = coords::to_map(&xyz);
-    crate::body::placement::check_coords(
-        &body,
-        &map,
-        &dir.join(COORDS_FILE).display().to_string(),
-        &body_path,
-    )?;
-    let scene = make_scene(body, &map, &options, &body_path)?;
+    crate::body::placement::check_coords(&body, &map, &coords_name, &body_name)?;
+    let scene = make_scene(body, &map, &options, &body_name)?;
     Ok(Resources {
         scene,
         guid: guid(&body_bytes, &coords_bytes, &options_text),

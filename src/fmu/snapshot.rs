@@ -6,7 +6,67 @@
 //! its own message, so a state from another FMU or a damaged buffer is never loaded.
 
 use super::hash::{FNV_OFFSET, fnv1a64};
+use crate::num::num;
 use crate::solver::{Method, State};
+
+/// Why saved-state bytes or a decoded snapshot were refused.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SnapshotError {
+    /// Too short to be a state, or another magic number.
+    #[error("not an fxbody FMU state (wrong magic or too short)")]
+    NotAState,
+    /// Another format version.
+    #[error("FMU state format version {0}, this library reads {VERSION}")]
+    Version(u32),
+    /// A state saved by another FMU.
+    #[error("FMU state belongs to GUID {found}, this instance is {expected}")]
+    Guid {
+        /// The GUID in the bytes (lossily decoded).
+        found: String,
+        /// This instance's GUID.
+        expected: String,
+    },
+    /// The payload length in the header is not the payload's.
+    #[error("FMU state length mismatch: header says {header} payload bytes, found {found}")]
+    Length {
+        /// What the header says.
+        header: usize,
+        /// What there is.
+        found: usize,
+    },
+    /// The checksum does not match.
+    #[error("FMU state checksum mismatch: the bytes are corrupted")]
+    Checksum,
+    /// A field runs past the end of the bytes.
+    #[error("serialized state truncated at byte {0}")]
+    Truncated(usize),
+    /// A length so large it overflows.
+    #[error("serialized state: length overflow at byte {0}")]
+    LengthOverflow(usize),
+    /// An array length larger than the bytes could hold.
+    #[error("serialized state: array length {0} exceeds the buffer")]
+    ArrayTooLong(usize),
+    /// A solver method code this library does not know.
+    #[error("FMU state: unknown solver method {0}")]
+    UnknownMethod(u32),
+    /// Bytes after the payload.
+    #[error("FMU state: trailing bytes after the payload")]
+    Trailing,
+    /// A decoded number no running model can hold.
+    #[error("saved state: {0} holds a non-finite number")]
+    NonFinite(&'static str),
+    /// rho_inf outside [0, 1].
+    #[error("saved state: rho_inf {} is not in [0, 1]", num(*.0))]
+    RhoInf(f64),
+    /// stopTime before startTime (or NaN).
+    #[error("saved state: stopTime {} is before startTime {}", num(*.stop), num(*.start))]
+    StopBeforeStart {
+        /// stopTime.
+        stop: f64,
+        /// startTime.
+        start: f64,
+    },
+}
 
 const MAGIC: &[u8; 8] = b"FXBSTATE";
 const VERSION: u32 = 1;
@@ -65,37 +125,39 @@ struct Reader<'a> {
 }
 
 impl Reader<'_> {
-    fn take(&mut self, n: usize) -> Result<&[u8], String> {
+    fn take(&mut self, n: usize) -> Result<&[u8], SnapshotError> {
+        let end = self
+            .p
+            .checked_add(n)
+            .ok_or(SnapshotError::LengthOverflow(self.p))?;
         let s = self
             .b
-            .get(self.p..self.p.checked_add(n).ok_or("length overflow")?)
-            .ok_or_else(|| format!("serialized state truncated at byte {}", self.p))?;
+            .get(self.p..end)
+            .ok_or(SnapshotError::Truncated(self.p))?;
         self.p += n;
         Ok(s)
     }
-    fn u32(&mut self) -> Result<u32, String> {
+    fn u32(&mut self) -> Result<u32, SnapshotError> {
         let s = self.take(4)?;
         Ok(u32::from_le_bytes([s[0], s[1], s[2], s[3]]))
     }
-    fn u64(&mut self) -> Result<u64, String> {
+    fn u64(&mut self) -> Result<u64, SnapshotError> {
         let s = self.take(8)?;
         let mut a = [0; 8];
         a.copy_from_slice(s);
         Ok(u64::from_le_bytes(a))
     }
-    fn f64(&mut self) -> Result<f64, String> {
+    fn f64(&mut self) -> Result<f64, SnapshotError> {
         Ok(f64::from_bits(self.u64()?))
     }
-    fn f64s(&mut self) -> Result<Vec<f64>, String> {
+    fn f64s(&mut self) -> Result<Vec<f64>, SnapshotError> {
         let n = self.u64()? as usize;
         if n > self.b.len() / 8 {
-            return Err(format!(
-                "serialized state: array length {n} exceeds the buffer"
-            ));
+            return Err(SnapshotError::ArrayTooLong(n));
         }
         (0..n).map(|_| self.f64()).collect()
     }
-    fn v3(&mut self) -> Result<[f64; 3], String> {
+    fn v3(&mut self) -> Result<[f64; 3], SnapshotError> {
         Ok([self.f64()?, self.f64()?, self.f64()?])
     }
 }
@@ -137,10 +199,41 @@ impl Snapshot {
         w.0
     }
 
+    /// Refuse a snapshot whose numbers no running model can hold (only reachable with
+    /// hand-made bytes: the checksum stops accidental damage).
+    pub fn check(&self) -> Result<(), SnapshotError> {
+        let finite = |what, v: &[f64]| {
+            if v.iter().all(|x| x.is_finite()) {
+                Ok(())
+            } else {
+                Err(SnapshotError::NonFinite(what))
+            }
+        };
+        finite("time", &[self.time, self.start_time])?;
+        finite(
+            "gravity, v0, w0",
+            &[self.gravity, self.v0, self.w0].concat(),
+        )?;
+        finite("loads", &self.loads)?;
+        finite("input rates", &self.rates)?;
+        if !(0.0..=1.0).contains(&self.rho_inf) {
+            return Err(SnapshotError::RhoInf(self.rho_inf));
+        }
+        if let Some(stop) = self.stop_time
+            && (stop.is_nan() || stop < self.start_time)
+        {
+            return Err(SnapshotError::StopBeforeStart {
+                stop,
+                start: self.start_time,
+            });
+        }
+        Ok(())
+    }
+
     /// Read bytes written by [`Snapshot::to_bytes`] for the FMU with `guid`.
-    pub fn from_bytes(bytes: &[u8], guid: &str) -> Result<Snapshot, String> {
+    pub fn from_bytes(bytes: &[u8], guid: &str) -> Result<Snapshot, SnapshotError> {
         if bytes.len() < 8 + 4 + 4 + 8 + 8 || &bytes[..8] != MAGIC {
-            return Err("not an fxbody FMU state (wrong magic or too short)".into());
+            return Err(SnapshotError::NotAState);
         }
         let body = &bytes[..bytes.len() - 8];
         let mut sum = [0; 8];
@@ -148,27 +241,25 @@ impl Snapshot {
         let mut r = Reader { b: body, p: 8 };
         let version = r.u32()?;
         if version != VERSION {
-            return Err(format!(
-                "FMU state format version {version}, this library reads {VERSION}"
-            ));
+            return Err(SnapshotError::Version(version));
         }
         let glen = r.u32()? as usize;
         let g = r.take(glen)?;
         if g != guid.as_bytes() {
-            return Err(format!(
-                "FMU state belongs to GUID {}, this instance is {guid}",
-                String::from_utf8_lossy(g)
-            ));
+            return Err(SnapshotError::Guid {
+                found: String::from_utf8_lossy(g).into_owned(),
+                expected: guid.to_string(),
+            });
         }
         let plen = r.u64()? as usize;
         if r.p.checked_add(plen) != Some(body.len()) {
-            return Err(format!(
-                "FMU state length mismatch: header says {plen} payload bytes, found {}",
-                body.len().saturating_sub(r.p)
-            ));
+            return Err(SnapshotError::Length {
+                header: plen,
+                found: body.len().saturating_sub(r.p),
+            });
         }
         if fnv1a64(FNV_OFFSET, body) != u64::from_le_bytes(sum) {
-            return Err("FMU state checksum mismatch: the bytes are corrupted".into());
+            return Err(SnapshotError::Checksum);
         }
         let phase = r.u32()? as u8;
         let method = r.u32()? as i32;
@@ -189,7 +280,7 @@ impl Snapshot {
                     1 => Method::Explicit,
                     2 => Method::Implicit,
                     3 => Method::Exact,
-                    _ => return Err(format!("FMU state: unknown solver method {m}")),
+                    _ => return Err(SnapshotError::UnknownMethod(m)),
                 };
                 Some(State {
                     method,
@@ -198,7 +289,7 @@ impl Snapshot {
             }
         };
         if r.p != body.len() {
-            return Err("FMU state: trailing bytes after the payload".into());
+            return Err(SnapshotError::Trailing);
         }
         Ok(Snapshot {
             phase,
@@ -256,6 +347,7 @@ mod tests {
         assert!(
             Snapshot::from_bytes(&b, "{h}")
                 .unwrap_err()
+                .to_string()
                 .contains("GUID")
         );
         let mut c = b.clone();
@@ -264,12 +356,14 @@ mod tests {
         assert!(
             Snapshot::from_bytes(&c, "{g}")
                 .unwrap_err()
+                .to_string()
                 .contains("checksum")
         );
         assert!(Snapshot::from_bytes(&b[..b.len() - 3], "{g}").is_err());
         assert!(
             Snapshot::from_bytes(b"hello world, not a state at all", "{g}")
                 .unwrap_err()
+                .to_string()
                 .contains("magic")
         );
     }

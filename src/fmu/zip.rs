@@ -16,19 +16,32 @@ pub struct Entry {
     pub mode: u32,
 }
 
+/// An archive the classic zip format cannot hold (no zip64 here).
+#[derive(Debug, thiserror::Error)]
+pub enum ZipError {
+    /// One member is 4 GiB or more.
+    #[error("zip: {0} is larger than 4 GiB")]
+    EntryTooLarge(String),
+    /// The archive is 4 GiB or more.
+    #[error("zip: archive larger than 4 GiB")]
+    ArchiveTooLarge,
+    /// More than 65535 members.
+    #[error("zip: too many entries")]
+    TooManyEntries,
+}
+
 /// The archive bytes for `entries`, in the given order. Fails when an entry or the
 /// archive exceeds the 4 GiB limits of the classic format.
-pub fn write(entries: &[Entry]) -> Result<Vec<u8>, String> {
+pub fn write(entries: &[Entry]) -> Result<Vec<u8>, ZipError> {
     let mut out = Vec::new();
     let mut central = Vec::new();
     // 1980-01-01: year offset 0 (bits 9..16), month 1 (bits 5..9), day 1.
     const DOS_DATE: u16 = (1 << 5) | 1;
     const DOS_TIME: u16 = 0;
     for e in entries {
-        let size = u32::try_from(e.data.len())
-            .map_err(|_| format!("zip: {} is larger than 4 GiB", e.name))?;
-        let offset =
-            u32::try_from(out.len()).map_err(|_| "zip: archive larger than 4 GiB".to_string())?;
+        let size =
+            u32::try_from(e.data.len()).map_err(|_| ZipError::EntryTooLarge(e.name.clone()))?;
+        let offset = u32::try_from(out.len()).map_err(|_| ZipError::ArchiveTooLarge)?;
         let name = e.name.as_bytes();
         let crc = crc32(&e.data);
         // Local file header.
@@ -62,9 +75,8 @@ pub fn write(entries: &[Entry]) -> Result<Vec<u8>, String> {
         central.extend_from_slice(&offset.to_le_bytes());
         central.extend_from_slice(name);
     }
-    let cd_offset =
-        u32::try_from(out.len()).map_err(|_| "zip: archive larger than 4 GiB".to_string())?;
-    let count = u16::try_from(entries.len()).map_err(|_| "zip: too many entries".to_string())?;
+    let cd_offset = u32::try_from(out.len()).map_err(|_| ZipError::ArchiveTooLarge)?;
+    let count = u16::try_from(entries.len()).map_err(|_| ZipError::TooManyEntries)?;
     out.extend_from_slice(&central);
     out.extend_from_slice(&0x0605_4b50u32.to_le_bytes());
     out.extend_from_slice(&[0; 4]); // disk numbers

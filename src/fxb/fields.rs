@@ -272,9 +272,37 @@ pub fn free_values<T: FieldValue>(line: &[u8]) -> Option<Vec<T>> {
     }
 }
 
+/// Where one reading of a line fails: the first text that is not a value. Shown inside
+/// [`LineIssue::Unparsable`], which names the file and line.
+#[derive(Debug, thiserror::Error)]
+enum Misread {
+    /// The fixed-column reading: a field's text and columns (1-based, inclusive).
+    #[error("'{text}' in columns {first}-{last}, not {what}")]
+    Field {
+        /// The field's text, trimmed.
+        text: String,
+        /// Its first column.
+        first: usize,
+        /// Its last column.
+        last: usize,
+        /// What was expected.
+        what: &'static str,
+    },
+    /// The blank-separated reading: the token's position (1-based) and text.
+    #[error("value {index} '{text}', not {what}")]
+    Token {
+        /// Its position among the tokens.
+        index: usize,
+        /// Its text.
+        text: String,
+        /// What was expected.
+        what: &'static str,
+    },
+}
+
 /// Fixed-column reading of the first 100 columns: one value per non-blank field,
 /// blank fields before the last non-blank one read as zero.
-fn read_fixed<T: FieldValue>(line: &[u8]) -> Result<Vec<T>, String> {
+fn read_fixed<T: FieldValue>(line: &[u8]) -> Result<Vec<T>, Misread> {
     let line = &line[..line.len().min(LINE_COLUMNS)];
     let last = line
         .iter()
@@ -298,13 +326,12 @@ fn read_fixed<T: FieldValue>(line: &[u8]) -> Result<Vec<T>, String> {
             Some(v) => out.push(v),
             None => {
                 let c0 = k * T::WIDTH + 1;
-                return Err(format!(
-                    "'{}' in columns {}-{}, not {}",
-                    shown(field).trim(),
-                    c0,
-                    c0 + T::WIDTH - 1,
-                    T::WHAT
-                ));
+                return Err(Misread::Field {
+                    text: shown(field).trim().to_string(),
+                    first: c0,
+                    last: c0 + T::WIDTH - 1,
+                    what: T::WHAT,
+                });
             }
         }
     }
@@ -313,7 +340,7 @@ fn read_fixed<T: FieldValue>(line: &[u8]) -> Result<Vec<T>, String> {
 
 /// Blank-separated reading of the whole line: the first [`MAX_FREE`] values and the
 /// total number of tokens.
-fn read_free<T: FieldValue>(line: &[u8]) -> Result<(Vec<T>, usize), String> {
+fn read_free<T: FieldValue>(line: &[u8]) -> Result<(Vec<T>, usize), Misread> {
     let mut out = Vec::new();
     let mut count = 0;
     let tokens = line
@@ -326,11 +353,11 @@ fn read_free<T: FieldValue>(line: &[u8]) -> Result<(Vec<T>, usize), String> {
             Some(v) if out.len() < MAX_FREE => out.push(v),
             Some(_) => {}
             None => {
-                return Err(format!(
-                    "value {count} '{}', not {}",
-                    shown(tok),
-                    T::WHAT.split(" (").next().unwrap_or(T::WHAT)
-                ));
+                return Err(Misread::Token {
+                    index: count,
+                    text: shown(tok),
+                    what: T::WHAT.split(" (").next().unwrap_or(T::WHAT),
+                });
             }
         }
     }

@@ -1,6 +1,7 @@
 //! The `.fxb` file format only: reading (fixed-column and free-format), writing, and
 //! errors that name the file, line and block. No physics here: [`FxbFile`] holds the
-//! numbers exactly in file order; [`crate::body::Body`] turns them into matrices.
+//! numbers exactly in file order; the body layer (`crate::body`) turns them into matrices
+//! and loads a body from a path.
 //!
 //! Reading rules (FORMULATION.md section 1): comments (`#` or `$` in column 1) and blank
 //! lines may appear anywhere; each line is read both in Radioss fixed columns and as
@@ -21,8 +22,6 @@ mod writer;
 
 pub use error::{At, Block, FxbError};
 pub use writer::{format_real, write};
-
-use crate::body::{Body, BodyError};
 
 /// Read and parse a `.fxb` file; the file name in errors is the path as given.
 pub fn read_path(path: &Path) -> Result<FxbFile, FxbError> {
@@ -57,36 +56,6 @@ pub fn parse(text: impl AsRef<[u8]>, file_name: &str) -> Result<FxbFile, FxbErro
         });
     }
     reader::parse_bytes(text, file_name)
-}
-
-/// Why [`load_body`] failed: the file could not be read, or its numbers do not make a
-/// valid body. Boxed to keep `Result<Body, LoadError>` small.
-#[derive(Debug, thiserror::Error)]
-pub enum LoadError {
-    /// Reading or parsing failed.
-    #[error(transparent)]
-    File(Box<FxbError>),
-    /// The numbers failed a physical check.
-    #[error(transparent)]
-    Body(Box<BodyError>),
-}
-
-impl From<FxbError> for LoadError {
-    fn from(e: FxbError) -> Self {
-        LoadError::File(Box::new(e))
-    }
-}
-
-impl From<BodyError> for LoadError {
-    fn from(e: BodyError) -> Self {
-        LoadError::Body(Box::new(e))
-    }
-}
-
-/// Read a file and validate it into a [`Body`] (warnings are in `Body::warnings`).
-pub fn load_body(path: &Path) -> Result<Body, LoadError> {
-    let file = read_path(path)?;
-    Ok(Body::from_fxb(&file, &path.display().to_string())?)
 }
 
 /// The raw contents of a flexible-body file, block by block, in file order.

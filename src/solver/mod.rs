@@ -220,7 +220,7 @@ pub trait Solver: Send {
 /// ```
 /// use std::{path::Path, sync::Arc};
 ///
-/// use fxbody::fxb::load_body;
+/// use fxbody::body::load as load_body;
 /// use fxbody::scene::Scene;
 /// use fxbody::solver::{Method, Options, build};
 ///

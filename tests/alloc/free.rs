@@ -65,8 +65,8 @@ fn stepping_does_not_allocate() {
 /// allocated once).
 #[test]
 fn halving_does_not_allocate() {
+    use fxbody::body::load as load_body;
     use fxbody::fxb::coords::{read_coords, to_map};
-    use fxbody::fxb::load_body;
     use fxbody::scene::Scene;
     use fxbody::solver::Solver;
     use fxbody::solver::free::Explicit;

@@ -13,7 +13,8 @@ pub mod springs;
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use fxbody::fxb::{coords, load_body};
+use fxbody::body::load as load_body;
+use fxbody::fxb::coords;
 use fxbody::scene::Scene;
 use fxbody::solver::Solver;
 use serde_json::Value;

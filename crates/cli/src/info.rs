@@ -5,7 +5,6 @@ use std::fmt::Write;
 use std::path::PathBuf;
 
 use fxbody::body::Body;
-use fxbody::fxb;
 
 /// Arguments of `info`.
 #[derive(Debug, clap::Args)]
@@ -33,12 +32,10 @@ struct Info {
 
 /// Run `info`: the report on stdout, or the error message (for exit code 2).
 pub fn run(args: &InfoArgs) -> Result<(), String> {
-    let file = fxb::read_path(&args.file).map_err(|e| e.to_string())?;
-    let body =
-        Body::from_fxb(&file, &args.file.display().to_string()).map_err(|e| e.to_string())?;
+    let body = fxbody::body::load(&args.file).map_err(|e| e.to_string())?;
     let info = Info {
-        nbmod: file.nbmod,
-        idamp: file.idamp,
+        nbmod: body.nl(),
+        idamp: body.damping.is_some(),
         freq_max_hz: body.freq_max_hz(),
         // The step the explicit solvers really use: from the largest computed frequency
         // (the stored Freq is printed beside it, and may be wrong).

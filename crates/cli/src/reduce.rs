@@ -6,7 +6,6 @@
 use std::fmt::Write;
 use std::path::PathBuf;
 
-use fxbody::body::Body;
 use fxbody::fxb;
 use fxbody::reduce::{node_indices, select_nodes, to_fxb, truncate};
 
@@ -28,9 +27,8 @@ pub struct ReduceArgs {
 
 /// Run `reduce`: write the file and a summary on stdout, or the error message.
 pub fn run(args: &ReduceArgs) -> Result<(), String> {
-    let name = args.file.display().to_string();
-    let file = fxb::read_path(&args.file).map_err(|e| e.to_string())?;
-    let body = Body::from_fxb(&file, &name).map_err(|e| e.to_string())?;
+    let body = fxbody::body::load(&args.file).map_err(|e| e.to_string())?;
+    let input_nodes = body.nnodes();
     let nodes = match &args.nodes {
         Some(ids) => node_indices(&body, ids).map_err(|e| format!("--nodes: {e}"))?,
         None => (0..body.nnodes()).collect(),
@@ -63,7 +61,7 @@ pub fn run(args: &ReduceArgs) -> Result<(), String> {
         reduced.nl(),
         reduced.freq_file,
         text.len(),
-        file.nbnod
+        input_nodes
     );
     if let Some(r) = residual
         && r.dropped > 0

@@ -5,8 +5,8 @@
 use std::path::Path;
 use std::sync::Arc;
 
+use fxbody::body::load as load_body;
 use fxbody::fxb::coords::{read_coords, to_map};
-use fxbody::fxb::load_body;
 use fxbody::scene::Scene;
 use fxbody::solver::{Method, Options};
 
@@ -148,7 +148,7 @@ pub struct Case {
 /// A fixture body with its tip node exposed, and its parsed reference file.
 pub fn fixture(dir: &Path, name: &str) -> Result<(Scene, Json), String> {
     let fxb = dir.join(format!("{name}.fxb"));
-    let body = load_body(&fxb).map_err(|e| format!("{}: {e}", fxb.display()))?;
+    let body = load_body(&fxb).map_err(|e| e.to_string())?;
     let refp = dir.join(format!("{name}.ref.json"));
     let text = std::fs::read_to_string(&refp).map_err(|e| format!("{}: {e}", refp.display()))?;
     let j = serde_json::from_str::<Json>(&text).map_err(|e| format!("{}: {e}", refp.display()))?;

@@ -6,8 +6,8 @@ use std::sync::Arc;
 
 use crate::common::fixture;
 use fxbody::body::Body;
+use fxbody::body::load as load_body;
 use fxbody::fxb::coords::{read_coords, to_map};
-use fxbody::fxb::load_body;
 use fxbody::scene::Scene;
 use fxbody::solver::{Method, Options, Solver, build};
 use nalgebra::{DVector, Matrix3, Vector3};

@@ -6,10 +6,10 @@
 
 use crate::common::root;
 use fxbody::body::Body;
+use fxbody::body::load as load_body;
 use fxbody::fmu::model::{Model, Phase};
 use fxbody::fmu::pack::{Fmax, PackRequest, prepare_with};
 use fxbody::fmu::vars::Kind;
-use fxbody::fxb::load_body;
 use nalgebra::DMatrix;
 use serde_json::Value;
 

@@ -143,7 +143,7 @@ fn shifted_deck_places_the_origin_and_the_fmu_keeps_deck_positions() {
     let bad: String = p.coords_csv.replacen("\n12,11.", "\n12,12.", 1);
     assert_ne!(bad, p.coords_csv);
     std::fs::write(res.join(COORDS_FILE), bad).unwrap();
-    let e = load_resources(&res).err().unwrap();
+    let e = load_resources(&res).err().unwrap().to_string();
     assert!(
         e.contains("coords.csv: node") && e.contains("rigid modes"),
         "{e}"

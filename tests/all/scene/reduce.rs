@@ -7,7 +7,7 @@ use std::process::Command;
 
 use crate::common::{fixture, fixture_reference as reference};
 use fxbody::body::Body;
-use fxbody::fxb::load_body;
+use fxbody::body::load as load_body;
 use fxbody::reduce::truncate;
 use nalgebra::{DMatrix, DVector};
 

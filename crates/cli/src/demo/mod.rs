@@ -226,7 +226,7 @@ pub fn run(args: &DemoArgs) -> Result<(), String> {
     }
     let abi = started.elapsed().as_secs_f64() / steps as f64;
     drop(inst);
-    let res = load_resources(&dir.join("resources"))?;
+    let res = load_resources(&dir.join("resources")).map_err(|e| e.to_string())?;
     let mut s = solver::build(
         &res.scene,
         fxbody::solver::Method::Exact,

@@ -1,0 +1,98 @@
+//! Why an FMI call was refused: the boundary's own checks (NULL arguments, foreign state
+//! handles, buffers) and the lower layers' errors wrapped unchanged. [`super::instance::enter`]
+//! logs it as `"{function}: {error}"` and returns fmi2Error.
+
+use std::path::PathBuf;
+
+use super::fmu_state::HandleError;
+use super::uri::UriError;
+use crate::fmu::model::ModelError;
+use crate::fmu::scene_io::ResourceError;
+use crate::fmu::snapshot::SnapshotError;
+
+/// A refused FMI call.
+#[derive(Debug, thiserror::Error)]
+pub enum FmiError {
+    /// A required pointer argument is NULL (the text names it).
+    #[error("{0} is NULL")]
+    Null(&'static str),
+    /// An array argument is NULL with a nonzero length.
+    #[error("{what} is NULL with {n} elements")]
+    NullArray {
+        /// The argument.
+        what: &'static str,
+        /// Its length.
+        n: usize,
+    },
+    /// fmi2SetDebugLogging with a category this FMU does not declare.
+    #[error("unknown log category '{name}' (declared: {declared})")]
+    UnknownCategory {
+        /// The category given.
+        name: String,
+        /// The declared categories, comma-separated.
+        declared: String,
+    },
+    /// fmi2Instantiate without an instance name.
+    #[error("instanceName is NULL or empty")]
+    NoInstanceName,
+    /// fmi2Instantiate without a resource location.
+    #[error("fmuResourceLocation is NULL: the FMU needs its resources folder")]
+    NoResourceLocation,
+    /// fmi2Instantiate for Model Exchange.
+    #[error("fmuType {0}: this FMU provides co-simulation (1) only")]
+    FmuType(i32),
+    /// The caller's GUID is not the resources'.
+    #[error(
+        "GUID mismatch: the caller passed {given} but the FMU's resources ({}) give {found}; \
+         the modelDescription.xml and the resources are from different packs",
+        .dir.display()
+    )]
+    GuidMismatch {
+        /// The GUID passed.
+        given: String,
+        /// The resources folder.
+        dir: PathBuf,
+        /// The GUID the resources give.
+        found: String,
+    },
+    /// A value reference of a type this FMU has no variables of.
+    #[error("value reference {vr}: this FMU has no {kind} variables")]
+    NoVariables {
+        /// The first value reference.
+        vr: u32,
+        /// "Boolean" or "String".
+        kind: &'static str,
+    },
+    /// fmi2GetDirectionalDerivative.
+    #[error("not provided by this FMU (providesDirectionalDerivative=\"false\")")]
+    NoDirectionalDerivative,
+    /// A state code no FMI state has.
+    #[error("saved state has an unknown phase code {0}")]
+    UnknownPhase(u8),
+    /// A serialisation buffer too small.
+    #[error("buffer is {size} bytes, the state needs {needs} (use fmi2SerializedFMUstateSize)")]
+    BufferTooSmall {
+        /// The buffer's size.
+        size: usize,
+        /// The bytes needed.
+        needs: usize,
+    },
+    /// A serialised state for another number of inputs.
+    #[error("serialized state has a different number of inputs than this FMU")]
+    StateInputs,
+    /// A state handle this instance cannot use.
+    #[error(transparent)]
+    Handle(#[from] HandleError),
+    /// The resource location is not a local folder URI.
+    #[error(transparent)]
+    Uri(#[from] UriError),
+    /// The resources could not be loaded.
+    #[error(transparent)]
+    Resources(#[from] ResourceError),
+    /// The model refused the call.
+    #[error(transparent)]
+    Model(#[from] ModelError),
+    /// Serialised state bytes refused.
+    #[error(transparent)]
+    Snapshot(#[from] SnapshotError),
+}
