@@ -9,6 +9,7 @@
 #![warn(missing_docs)]
 
 pub mod body;
+pub mod fe;
 pub mod fmi;
 pub mod fmu;
 pub mod fxb;
