@@ -13,6 +13,7 @@ pub mod fe;
 pub mod fmi;
 pub mod fmu;
 pub mod fxb;
+pub mod import;
 pub mod num;
 pub mod reduce;
 pub mod scene;

@@ -19,6 +19,8 @@ enum Command {
     Info(cli::info::InfoArgs),
     /// Pack a .fxb file into an FMI 2.0 co-simulation FMU.
     Pack(cli::pack::PackArgs),
+    /// Build a .fxb body from FE matrices (Nastran DMIG, Abaqus, CalculiX) and coordinates.
+    Import(Box<cli::import::ImportArgs>),
     /// Write a smaller .fxb: only the chosen nodes, only the modes up to fmax.
     Reduce(cli::reduce::ReduceArgs),
     /// The main job: pack the shipped cantilever, run a tip step load through the FMU's C ABI.
@@ -33,6 +35,7 @@ fn main() {
         Command::Info(args) => cli::info::run(args),
         Command::Pack(args) => cli::pack::run(args),
         Command::Reduce(args) => cli::reduce::run(args),
+        Command::Import(args) => cli::import::run(args),
         Command::Demo(args) => cli::demo::run(args),
         Command::Study(args) => cli::study::run(args),
     };
