@@ -239,6 +239,18 @@ pub fn build(
         None => grid_ids.clone(),
         Some(ids) => dofs::check_nodes(ids, &grid_ids)?,
     };
+    let on_nodes = reduced
+        .z
+        .iter()
+        .filter(|&&i| node_ids.contains(&reduced.all[i].id) && !reduced.all[i].is_scalar())
+        .count();
+    if on_nodes > 0 {
+        report.warnings.push(format!(
+            "{on_nodes} massless DOFs of the body's nodes were condensed out: a force or \
+             moment applied there acts through the DOFs with mass only (its local \
+             flexibility with those held has no mass to make a mode of)"
+        ));
+    }
     if let Some(c) = &coords
         && let Some(&id) = grid_ids.iter().find(|id| !c.contains_key(id))
     {
