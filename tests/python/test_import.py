@@ -301,5 +301,7 @@ def test_free_body_spin_follows_euler_equations(model, tmp_path):
     np_, ne, nl, _ = spin(model, tmp_path, naive=True)
     print(f"spin {turns:.1f} turns: attitude {ep:.2e}, energy {ee:.2e}, angular momentum "
           f"{el:.2e}; naive M_R: attitude {np_:.2e}, energy {ne:.2e}, angular momentum {nl:.2e}")
-    assert ep < 1e-4 and el < 1e-4, f"exact M_R: attitude {ep:.2e}, momentum {el:.2e}"
+    # attitude: the implicit scheme's phase error, about (w h)^2/12 per radian turned
+    # (1e-5 x 22 rad = 2e-4 at h = 1e-3); the naive M_R misses by tens of percent
+    assert ep < 5e-4 and el < 1e-4, f"exact M_R: attitude {ep:.2e}, momentum {el:.2e}"
     assert np_ > 1e-2, f"the naive M_R should fail at the percent level, got {np_:.2e}"
