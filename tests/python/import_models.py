@@ -12,7 +12,7 @@ import numpy as np
 import scipy.linalg as la
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[2] / "fixtures"))
-import fe  # noqa: E402
+import fe  # noqa: E402,F401  (also used by the tests as im.fe)
 
 E, G, RHO = 210e9, 81e9, 7850.0
 SPOINT0 = 900001

@@ -305,3 +305,107 @@ def test_free_body_spin_follows_euler_equations(model, tmp_path):
     # (1e-5 x 22 rad = 2e-4 at h = 1e-3); the naive M_R misses by tens of percent
     assert ep < 5e-4 and el < 1e-4, f"exact M_R: attitude {ep:.2e}, momentum {el:.2e}"
     assert np_ > 1e-2, f"the naive M_R should fail at the percent level, got {np_:.2e}"
+
+
+# ---- refused inputs: each error of the construction has its fixture -------------------
+
+def free_guyan_files(model, tmp_path, xyz_scale=1.0, mass_fix=None, stiff_fix=None):
+    ids, xyz, k, m = model
+    kg, mg, _ = im.guyan(k, m, im.dof_index(ids, FREE_IFACE))
+    if mass_fix:
+        mg = mass_fix(mg)
+    if stiff_fix:
+        kg = stiff_fix(kg)
+    dofs = im.reduced_dofs(ids, FREE_IFACE)
+    im.write_abaqus(tmp_path / "K.mtx", dofs, kg)
+    im.write_abaqus(tmp_path / "M.mtx", dofs, mg)
+    im.write_csv(tmp_path / "nodes.csv", ids, xyz * xyz_scale)
+    return ["--stiffness", tmp_path / "K.mtx", "--mass", tmp_path / "M.mtx", "-o",
+            tmp_path / "x.fxb"]
+
+
+def test_error_node_without_coordinates(model, tmp_path):
+    args = free_guyan_files(model, tmp_path)
+    ids, xyz, _, _ = model
+    im.write_csv(tmp_path / "nodes.csv", [i for i in ids if i != 108],
+                 np.array([x for i, x in zip(ids, xyz) if i != 108]))
+    r = run_import(*args, "--coords", tmp_path / "nodes.csv", ok=False)
+    assert "node 108 has no coordinates in" in r.stderr and "nodes.csv" in r.stderr
+
+
+def test_error_coordinates_in_other_units(model, tmp_path):
+    """Coordinates in mm for matrices in m: the rotations are not zero-energy motions;
+    the message names the worst motion, its residual, the DOF, and the likely causes."""
+    args = free_guyan_files(model, tmp_path, xyz_scale=1000.0)
+    r = run_import(*args, "--free", "--coords", tmp_path / "nodes.csv", ok=False)
+    msg = r.stderr
+    assert "rigid motion 'rotation about" in msg and "is not in K's null space" in msg, msg
+    assert "largest residual at 1" in msg and "coordinates, units or IDs" in msg, msg
+    # without --free, the body is not taken as free, and a blocked K must be definite
+    r = run_import(*args, "--coords", tmp_path / "nodes.csv", ok=False)
+    assert "K is singular (6 zero-energy modes)" in r.stderr, r.stderr
+
+
+def test_error_free_body_with_blocked(model, tmp_path):
+    args = free_guyan_files(model, tmp_path)
+    r = run_import(*args, "--blocked", "--coords", tmp_path / "nodes.csv", ok=False)
+    assert "K is singular (6 zero-energy modes): apply the supports before reduction, or " \
+           "use --free; K's zero modes are exactly rigid motions: did you mean --free?" in r.stderr
+    r = run_import(*args, "--blocked", ok=False)  # no coordinates: no rigid-motion hint
+    assert "K is singular (6 zero-energy modes)" in r.stderr and "did you mean" not in r.stderr
+
+
+def test_error_mechanism(model, tmp_path):
+    """A free body in two unconnected pieces: 12 zero-energy modes."""
+    ids, xyz, k, m = model
+    sec = im.fe.rect_section(0.04, 0.03)
+    ke, _ = im.fe.frame_element(0.25, im.E, im.G, im.RHO, sec)
+    cut = np.r_[6:18]  # the element between nodes 102 and 103
+    kk = k.copy()
+    kk[np.ix_(cut, cut)] -= ke
+    kk[np.abs(kk) < 1e-6 * np.abs(k).max()] = 0.0
+    im.write_abaqus(tmp_path / "K.mtx", im.reduced_dofs(ids, ids), kk)
+    im.write_abaqus(tmp_path / "M.mtx", im.reduced_dofs(ids, ids), m)
+    im.write_csv(tmp_path / "nodes.csv", ids, xyz)
+    r = run_import("--stiffness", tmp_path / "K.mtx", "--mass", tmp_path / "M.mtx",
+                   "--coords", tmp_path / "nodes.csv", "-o", tmp_path / "x.fxb", ok=False)
+    assert "K has 12 zero-energy modes (6 expected): mechanism" in r.stderr, r.stderr
+
+
+def test_error_negative_mass(model, tmp_path):
+    def flip(mg):
+        mg = mg.copy()
+        mg[2, 2] = -mg[2, 2]
+        return mg
+    args = free_guyan_files(model, tmp_path, mass_fix=flip)
+    r = run_import(*args, "--coords", tmp_path / "nodes.csv", ok=False)
+    assert "M has a negative eigenvalue (-" in r.stderr, r.stderr
+
+
+def test_error_too_large(tmp_path):
+    n = 2001
+    dofs = [(1 + i // 3, 1 + i % 3) for i in range(n)]
+    a = np.eye(n)
+    im.write_abaqus(tmp_path / "K.mtx", dofs, a)
+    im.write_abaqus(tmp_path / "M.mtx", dofs, a)
+    r = run_import("--stiffness", tmp_path / "K.mtx", "--mass", tmp_path / "M.mtx", "-o",
+                   tmp_path / "x.fxb", ok=False)
+    assert "dense size 2001 DOFs exceeds the limit of 2000" in r.stderr and "reduce the model in your" \
+        " FE code (Craig-Bampton or Guyan)" in r.stderr, r.stderr
+
+
+def test_units_conversion(model, tmp_path):
+    """m-kg-s matrices into mm-kg-ms: mass unchanged, lengths x1000, inertia x1e6,
+    frequencies in 1/ms (x1e-3)."""
+    args = free_guyan_files(model, tmp_path)
+    run_import(*args, "--coords", tmp_path / "nodes.csv", "--report", tmp_path / "si.json")
+    si = json.loads((tmp_path / "si.json").read_text())
+    run_import(*args, "--coords", tmp_path / "nodes.csv", "--units", "m-kg-s:mm-kg-ms",
+               "--report", tmp_path / "mm.json")
+    mm = json.loads((tmp_path / "mm.json").read_text())
+    assert abs(mm["mass"]["total_mass"] / si["mass"]["total_mass"] - 1) < 1e-12
+    assert np.allclose(mm["mass"]["center_of_mass"], 1e3 * np.array(si["mass"]["center_of_mass"]),
+                       rtol=1e-12, atol=1e-9)
+    assert np.allclose(mm["mass"]["inertia"], 1e6 * np.array(si["mass"]["inertia"]), rtol=1e-12,
+                       atol=1e-6 * np.abs(mm["mass"]["inertia"]).max())
+    assert np.allclose(mm["frequencies_hz"], 1e-3 * np.array(si["frequencies_hz"]), rtol=1e-10)
