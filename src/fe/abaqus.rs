@@ -11,10 +11,10 @@
 use std::path::Path;
 
 use super::error::FeError;
-use super::fields::trim;
+use super::fields::{real, trim};
 use super::terms::{Storage, Terms};
 use super::{Dof, SymMatrix};
-use crate::fxb::fields::{parse_int, parse_real};
+use crate::fxb::fields::parse_int;
 
 /// Read an Abaqus matrix file; the matrix is named after the file stem.
 pub fn read_abaqus(path: &Path) -> Result<SymMatrix, FeError> {
@@ -120,7 +120,7 @@ pub fn parse_abaqus(text: &[u8], file: &str, name: String) -> Result<SymMatrix, 
         let row = dof(0)?;
         let col_dof = dof(2)?;
         let v = trim(cells[4].0);
-        let value = parse_real(v).ok_or_else(|| {
+        let value = real(v).ok_or_else(|| {
             FeError::syntax(
                 file,
                 ln,

@@ -13,10 +13,10 @@ use std::collections::HashMap;
 use std::path::Path;
 
 use super::error::FeError;
-use super::fields::trim;
+use super::fields::{real, trim};
 use super::terms::{Storage, Terms};
 use super::{Dof, SymMatrix};
-use crate::fxb::fields::{is_blank, parse_int, parse_real};
+use crate::fxb::fields::{is_blank, parse_int};
 
 /// Read `job.sti` or `job.mas` (`matrix`) with the DOF map `job.dof` (`dof_file`); the
 /// matrix is named after the matrix file's stem.
@@ -163,7 +163,7 @@ pub fn parse_matrix(
         let r = eq(0)?;
         let c = eq(1)?;
         let v = toks[2].0;
-        let value = parse_real(v).ok_or_else(|| {
+        let value = real(v).ok_or_else(|| {
             FeError::syntax(
                 file,
                 ln,

