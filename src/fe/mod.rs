@@ -19,6 +19,7 @@
 
 mod abaqus;
 mod calculix;
+mod cards;
 mod coords;
 mod dmig;
 mod error;
@@ -109,7 +110,7 @@ impl SymMatrix {
     }
 }
 
-/// Read a whole file, naming it in the error.
+/// Read a whole file (a small one: coordinates), naming it in the error.
 fn read_file(path: &std::path::Path) -> Result<Vec<u8>, FeError> {
     std::fs::read(path).map_err(|source| FeError::Io {
         file: path.display().to_string(),
@@ -117,20 +118,11 @@ fn read_file(path: &std::path::Path) -> Result<Vec<u8>, FeError> {
     })
 }
 
-/// Lines of a text, numbered from 1, without their line ending.
-fn lines(text: &[u8]) -> impl Iterator<Item = (usize, &[u8])> {
-    let mut pos = 0;
-    let mut no = 0;
-    std::iter::from_fn(move || {
-        if pos >= text.len() {
-            return None;
-        }
-        let rest = &text[pos..];
-        let end = fields::find_byte(rest, b'\n').unwrap_or(rest.len());
-        pos += end + 1;
-        no += 1;
-        let l = &rest[..end];
-        Some((no, l.strip_suffix(b"\r").unwrap_or(l)))
+/// Open a file to stream it, naming it in the error.
+fn open(path: &std::path::Path) -> Result<std::fs::File, FeError> {
+    std::fs::File::open(path).map_err(|source| FeError::Io {
+        file: path.display().to_string(),
+        source,
     })
 }
 
