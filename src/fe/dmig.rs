@@ -333,4 +333,55 @@ DMIG    KAAX    12      2               12      2       4.5             +A
         assert_eq!(m.dofs, vec![g(12, 2), g(13, 1), g(14, 0)]);
         assert_eq!(m.terms, vec![(0, 0, 4.5), (0, 1, -0.015), (0, 2, 0.25)]);
     }
+
+    #[test]
+    fn square_form_needs_both_triangles_and_a_header_once() {
+        let col = |gj: i64, gi: i64, v: &str| {
+            format!(
+                "DMIG*   KAAX            {gj:>16}{:>16}\n*       {gi:>16}{:>16}{v:>16}\n",
+                1, 1
+            )
+        };
+        let head = "DMIG    KAAX           0       1       2       0\n";
+        let full = format!(
+            "{head}{}{}{}",
+            col(1, 1, "2.0"),
+            col(1, 2, "-1.0"),
+            col(2, 1, "-1.0")
+        );
+        let m = parse_dmig(full.as_bytes(), "q.pch", "KAAX").unwrap();
+        assert_eq!(m.terms, vec![(0, 0, 2.0), (0, 1, -1.0)]);
+        let one = format!("{head}{}{}", col(1, 1, "2.0"), col(1, 2, "-1.0"));
+        let e = parse_dmig(one.as_bytes(), "q.pch", "KAAX")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("q.pch:5: not symmetric: (2.1, 1.1) = -1 but (1.1, 2.1) = 0"),
+            "{e}"
+        );
+        let twice = format!("{head}{head}{}", col(1, 1, "2.0"));
+        let e = parse_dmig(twice.as_bytes(), "q.pch", "KAAX")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("q.pch:2: a second DMIG header for KAAX (the first is on line 1)"),
+            "{e}"
+        );
+        let none = col(1, 1, "2.0");
+        let e = parse_dmig(none.as_bytes(), "q.pch", "KAAX")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("q.pch:1: DMIG KAAX has column cards but no header card"),
+            "{e}"
+        );
+        let tab = format!("{head}DMIG*   KAAX\t1\n");
+        let e = parse_dmig(tab.as_bytes(), "q.pch", "KAAX")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("q.pch:2: cols 13-13: cannot read '<tab>'"),
+            "{e}"
+        );
+    }
 }
