@@ -1,7 +1,7 @@
 //! Fields of FE text files: Nastran's real syntax, integer fields, fixed-field columns,
 //! and lines read one at a time from a stream (a 250 MB punch is never held whole).
 
-use std::io::BufRead;
+use std::io::{BufRead, Read};
 
 use super::error::FeError;
 use crate::fxb::fields::{is_blank, parse_int, parse_real};
@@ -185,6 +185,9 @@ pub fn trim(text: &[u8]) -> &[u8] {
     &text[a..b]
 }
 
+/// The longest line a reader accepts (bytes, line end included).
+pub const MAX_LINE: usize = 1 << 20;
+
 /// Lines of a stream, numbered from 1, read one at a time into a reused buffer, without
 /// their line ending (`\n` or `\r\n`).
 pub struct Lines<R> {
@@ -205,11 +208,13 @@ impl<R: BufRead> Lines<R> {
         }
     }
 
-    /// The next line and its number, `None` at the end.
+    /// The next line and its number, `None` at the end; a line longer than
+    /// [`MAX_LINE`] bytes is refused (a binary file read by mistake would otherwise be
+    /// taken in whole as one line).
     pub fn next_line(&mut self) -> Result<Option<(usize, &[u8])>, FeError> {
         self.buf.clear();
-        let n = self
-            .reader
+        let n = (&mut self.reader)
+            .take(MAX_LINE as u64 + 1)
             .read_until(b'\n', &mut self.buf)
             .map_err(|source| FeError::Io {
                 file: self.file.clone(),
@@ -219,6 +224,16 @@ impl<R: BufRead> Lines<R> {
             return Ok(None);
         }
         self.no += 1;
+        if n > MAX_LINE {
+            return Err(FeError::invalid(
+                &self.file,
+                self.no,
+                format!(
+                    "a line longer than {MAX_LINE} bytes: expected a text file of \
+                     matrix terms, cards or coordinates"
+                ),
+            ));
+        }
         let mut l = &self.buf[..];
         if let Some(s) = l.strip_suffix(b"\n") {
             l = s;

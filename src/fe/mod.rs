@@ -110,8 +110,25 @@ impl SymMatrix {
     }
 }
 
+/// Refuse anything but a regular file before reading it: a device or FIFO would be read
+/// without end.
+fn regular(path: &std::path::Path) -> Result<(), FeError> {
+    let file = path.display().to_string();
+    match std::fs::metadata(path) {
+        Ok(m) if m.is_file() => Ok(()),
+        Ok(_) => Err(FeError::invalid(
+            &file,
+            0,
+            "expected a regular file (a directory, device or pipe cannot be read as a matrix \
+             or coordinate file)",
+        )),
+        Err(source) => Err(FeError::Io { file, source }),
+    }
+}
+
 /// Read a whole file (a small one: coordinates), naming it in the error.
 fn read_file(path: &std::path::Path) -> Result<Vec<u8>, FeError> {
+    regular(path)?;
     std::fs::read(path).map_err(|source| FeError::Io {
         file: path.display().to_string(),
         source,
@@ -120,6 +137,7 @@ fn read_file(path: &std::path::Path) -> Result<Vec<u8>, FeError> {
 
 /// Open a file to stream it, naming it in the error.
 fn open(path: &std::path::Path) -> Result<std::fs::File, FeError> {
+    regular(path)?;
     std::fs::File::open(path).map_err(|source| FeError::Io {
         file: path.display().to_string(),
         source,
