@@ -75,12 +75,12 @@ pub struct Deck<'f, R> {
     lines: Lines<R>,
     file: &'f str,
     done: bool,
-    /// The significant line last read, and its number when it is a look-ahead that
-    /// starts the next card.
-    next: Vec<u8>,
-    ahead: Option<usize>,
-    /// The current card's lines, concatenated, and its fields.
+    /// The current card's lines, concatenated; a look-ahead line that starts the next
+    /// card may follow them.
     buf: Vec<u8>,
+    /// The look-ahead line: its number and where it starts in `buf`.
+    ahead: Option<(usize, usize)>,
+    /// The current card's fields.
     spans: Vec<Span>,
 }
 
@@ -91,26 +91,27 @@ impl<'f, R: BufRead> Deck<'f, R> {
             lines: Lines::new(reader, file),
             file,
             done: false,
-            next: Vec::with_capacity(128),
-            ahead: None,
             buf: Vec::new(),
+            ahead: None,
             spans: Vec::new(),
         }
     }
 
-    /// Read the next line that is not a comment or blank into `self.next` (`$` comments
-    /// cut); its number, or `None` at the end or at `ENDDATA`.
-    fn read_line(&mut self) -> Result<Option<usize>, FeError> {
+    /// Append the next line that is not a comment or blank to `buf` (`$` comments cut);
+    /// its number and start, or `None` at the end or at `ENDDATA`.
+    fn read_line(&mut self) -> Result<Option<(usize, usize)>, FeError> {
         while !self.done {
-            let Some((no, l)) = self.lines.next_line()? else {
+            let start = self.buf.len();
+            let Some(no) = self.lines.append_line(&mut self.buf)? else {
                 self.done = true;
                 break;
             };
-            let l = match find_byte(l, b'$') {
-                Some(cut) => &l[..cut],
-                None => l,
-            };
+            if let Some(cut) = find_byte(&self.buf[start..], b'$') {
+                self.buf.truncate(start + cut);
+            }
+            let l = &self.buf[start..];
             if !l.iter().any(|&c| !is_blank(c)) {
+                self.buf.truncate(start);
                 continue;
             }
             if l.len() >= 7
@@ -118,12 +119,11 @@ impl<'f, R: BufRead> Deck<'f, R> {
                     .get(..7)
                     .is_some_and(|w| w.eq_ignore_ascii_case(b"ENDDATA"))
             {
+                self.buf.truncate(start);
                 self.done = true;
                 break;
             }
-            self.next.clear();
-            self.next.extend_from_slice(l);
-            return Ok(Some(no));
+            return Ok(Some((no, start)));
         }
         Ok(None)
     }
@@ -133,45 +133,42 @@ impl<'f, R: BufRead> Deck<'f, R> {
     pub fn next_card(&mut self, want: impl Fn(&[u8]) -> bool) -> Result<Option<Card<'_>>, FeError> {
         loop {
             let no = match self.ahead.take() {
-                Some(no) => no,
-                None => match self.read_line()? {
-                    Some(no) => no,
-                    // A continuation of a card not wanted (or a stray one): skip.
-                    None => return Ok(None),
-                },
+                Some((no, start)) => {
+                    self.buf.drain(..start);
+                    no
+                }
+                None => {
+                    self.buf.clear();
+                    match self.read_line()? {
+                        Some((no, _)) => no,
+                        None => return Ok(None),
+                    }
+                }
             };
-            if is_continuation(&self.next) {
+            // A continuation of a card not wanted (or a stray one): skip.
+            if is_continuation(&self.buf) {
                 continue;
             }
-            let (layout, name) = head_of(&self.next);
-            if !want(&self.next[name.0..name.1]) {
+            let (layout, name) = head_of(&self.buf);
+            if !want(&self.buf[name.0..name.1]) {
                 continue;
             }
-            self.buf.clear();
             self.spans.clear();
-            self.buf.extend_from_slice(&self.next);
             split(&self.buf, 0, no, layout, self.file, &mut self.spans)?;
-            while let Some(cl) = self.read_line()? {
-                if !is_continuation(&self.next) {
-                    self.ahead = Some(cl);
+            while let Some((cl, start)) = self.read_line()? {
+                let l = &self.buf[start..];
+                if !is_continuation(l) {
+                    self.ahead = Some((cl, start));
                     break;
                 }
-                let base = self.buf.len();
-                self.buf.extend_from_slice(&self.next);
-                let (layout, _) = head_of(&self.next);
-                split(
-                    &self.buf[base..],
-                    base,
-                    cl,
-                    layout,
-                    self.file,
-                    &mut self.spans,
-                )?;
+                let (layout, _) = head_of(l);
+                split(l, start, cl, layout, self.file, &mut self.spans)?;
             }
+            let end = self.ahead.map_or(self.buf.len(), |a| a.1);
             return Ok(Some(Card {
                 name: &self.buf[name.0..name.1],
                 line: no,
-                buf: &self.buf,
+                buf: &self.buf[..end],
                 spans: &self.spans,
             }));
         }

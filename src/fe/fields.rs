@@ -212,10 +212,20 @@ impl<R: BufRead> Lines<R> {
     /// [`MAX_LINE`] bytes is refused (a binary file read by mistake would otherwise be
     /// taken in whole as one line).
     pub fn next_line(&mut self) -> Result<Option<(usize, &[u8])>, FeError> {
-        self.buf.clear();
+        let mut buf = std::mem::take(&mut self.buf);
+        buf.clear();
+        let no = self.append_line(&mut buf);
+        self.buf = buf;
+        Ok(no?.map(|no| (no, &self.buf[..])))
+    }
+
+    /// Append the next line (without its line end) to `out`; its number, `None` at the
+    /// end. Lets a caller gather a card's lines in one buffer without copying them twice.
+    pub fn append_line(&mut self, out: &mut Vec<u8>) -> Result<Option<usize>, FeError> {
+        let start = out.len();
         let n = (&mut self.reader)
             .take(MAX_LINE as u64 + 1)
-            .read_until(b'\n', &mut self.buf)
+            .read_until(b'\n', out)
             .map_err(|source| FeError::Io {
                 file: self.file.clone(),
                 source,
@@ -234,14 +244,13 @@ impl<R: BufRead> Lines<R> {
                 ),
             ));
         }
-        let mut l = &self.buf[..];
-        if let Some(s) = l.strip_suffix(b"\n") {
-            l = s;
+        if out.last() == Some(&b'\n') {
+            out.pop();
         }
-        if let Some(s) = l.strip_suffix(b"\r") {
-            l = s;
+        if out.len() > start && out.last() == Some(&b'\r') {
+            out.pop();
         }
-        Ok(Some((self.no, l)))
+        Ok(Some(self.no))
     }
 }
 
