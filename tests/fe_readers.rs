@@ -264,3 +264,25 @@ fn refused_abaqus_calculix_and_coordinate_inputs_name_file_line_and_value() {
         "{e}"
     );
 }
+
+#[test]
+fn devices_directories_and_endless_lines_are_refused() {
+    for p in ["/dev/zero", "/dev/null"] {
+        let e = fe::read_dmig(Path::new(p), "KAAX").unwrap_err().to_string();
+        assert!(
+            e.starts_with(&format!("{p}: expected a regular file")),
+            "{e}"
+        );
+    }
+    let dir = data("");
+    let e = fe::read_abaqus(&dir).unwrap_err().to_string();
+    assert!(e.contains("expected a regular file"), "{e}");
+    let e = fe::read_coords(&dir).unwrap_err().to_string();
+    assert!(e.contains("expected a regular file"), "{e}");
+    // A file that is one endless line (a binary file given by mistake).
+    let tmp = std::env::temp_dir().join(format!("fe_readers_long_{}.mtx", std::process::id()));
+    std::fs::write(&tmp, vec![b'1'; 3 << 20]).unwrap();
+    let e = fe::read_abaqus(&tmp).unwrap_err().to_string();
+    std::fs::remove_file(&tmp).unwrap();
+    assert!(e.contains(":1: a line longer than 1048576 bytes"), "{e}");
+}

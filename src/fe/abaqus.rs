@@ -8,26 +8,28 @@
 //! `FORMAT=COORDINATE` files (`row, column, value` by equation number: the node map is
 //! lost).
 
+use std::io::{BufRead, BufReader};
 use std::path::Path;
 
 use super::error::FeError;
-use super::fields::trim;
+use super::fields::{Lines, real, trim};
 use super::terms::{Storage, Terms};
 use super::{Dof, SymMatrix};
-use crate::fxb::fields::{parse_int, parse_real};
+use crate::fxb::fields::parse_int;
 
 /// Read an Abaqus matrix file; the matrix is named after the file stem.
 pub fn read_abaqus(path: &Path) -> Result<SymMatrix, FeError> {
-    let text = super::read_file(path)?;
     let file = path.display().to_string();
-    parse_abaqus(&text, &file, super::stem(path))
+    let reader = BufReader::with_capacity(1 << 20, super::open(path)?);
+    parse_abaqus(reader, &file, super::stem(path))
 }
 
-/// Read Abaqus matrix lines from `text` (file name `file` for messages).
-pub fn parse_abaqus(text: &[u8], file: &str, name: String) -> Result<SymMatrix, FeError> {
+/// Read Abaqus matrix lines from `reader` (file name `file` for messages).
+pub fn parse_abaqus(reader: impl BufRead, file: &str, name: String) -> Result<SymMatrix, FeError> {
     let mut terms = Terms::new(file);
-    let mut cells: [(&[u8], usize); 5] = [(&[], 0); 5];
-    for (ln, line) in super::lines(text) {
+    let mut lines = Lines::new(reader, file);
+    while let Some((ln, line)) = lines.next_line()? {
+        let mut cells: [(&[u8], usize); 5] = [(&[], 0); 5];
         let t = trim(line);
         if t.is_empty() || t.starts_with(b"**") {
             continue;
@@ -120,7 +122,7 @@ pub fn parse_abaqus(text: &[u8], file: &str, name: String) -> Result<SymMatrix, 
         let row = dof(0)?;
         let col_dof = dof(2)?;
         let v = trim(cells[4].0);
-        let value = parse_real(v).ok_or_else(|| {
+        let value = real(v).ok_or_else(|| {
             FeError::syntax(
                 file,
                 ln,

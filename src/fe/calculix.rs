@@ -10,22 +10,23 @@
 //! there are no SPCs or MPCs; the files do not say so, and the reader cannot tell.
 
 use std::collections::HashMap;
+use std::io::{BufRead, BufReader};
 use std::path::Path;
 
 use super::error::FeError;
-use super::fields::trim;
+use super::fields::{Lines, real, trim};
 use super::terms::{Storage, Terms};
 use super::{Dof, SymMatrix};
-use crate::fxb::fields::{is_blank, parse_int, parse_real};
+use crate::fxb::fields::{is_blank, parse_int};
 
 /// Read `job.sti` or `job.mas` (`matrix`) with the DOF map `job.dof` (`dof_file`); the
 /// matrix is named after the matrix file's stem.
 pub fn read_calculix(matrix: &Path, dof_file: &Path) -> Result<SymMatrix, FeError> {
-    let dof_text = super::read_file(dof_file)?;
-    let dofs = parse_dof_map(&dof_text, &dof_file.display().to_string())?;
-    let text = super::read_file(matrix)?;
+    let dof_reader = BufReader::new(super::open(dof_file)?);
+    let dofs = parse_dof_map(dof_reader, &dof_file.display().to_string())?;
+    let reader = BufReader::with_capacity(1 << 20, super::open(matrix)?);
     parse_matrix(
-        &text,
+        reader,
         &matrix.display().to_string(),
         &dofs,
         &dof_file.display().to_string(),
@@ -34,10 +35,11 @@ pub fn read_calculix(matrix: &Path, dof_file: &Path) -> Result<SymMatrix, FeErro
 }
 
 /// The DOF of each equation, from a `.dof` file.
-pub fn parse_dof_map(text: &[u8], file: &str) -> Result<Vec<Dof>, FeError> {
+pub fn parse_dof_map(reader: impl BufRead, file: &str) -> Result<Vec<Dof>, FeError> {
     let mut out = Vec::new();
     let mut seen: HashMap<Dof, usize> = HashMap::new();
-    for (ln, line) in super::lines(text) {
+    let mut lines = Lines::new(reader, file);
+    while let Some((ln, line)) = lines.next_line()? {
         let t = trim(line);
         if t.is_empty() {
             continue;
@@ -98,14 +100,15 @@ pub fn parse_dof_map(text: &[u8], file: &str) -> Result<Vec<Dof>, FeError> {
 
 /// Read `row column value` lines over the DOF map `dofs` (read from `dof_file`).
 pub fn parse_matrix(
-    text: &[u8],
+    reader: impl BufRead,
     file: &str,
     dofs: &[Dof],
     dof_file: &str,
     name: String,
 ) -> Result<SymMatrix, FeError> {
     let mut terms = Terms::new(file);
-    for (ln, line) in super::lines(text) {
+    let mut lines = Lines::new(reader, file);
+    while let Some((ln, line)) = lines.next_line()? {
         let mut toks = [(&[][..], 0usize); 3];
         let mut count = 0;
         let mut k = 0;
@@ -163,7 +166,7 @@ pub fn parse_matrix(
         let r = eq(0)?;
         let c = eq(1)?;
         let v = toks[2].0;
-        let value = parse_real(v).ok_or_else(|| {
+        let value = real(v).ok_or_else(|| {
             FeError::syntax(
                 file,
                 ln,
@@ -202,11 +205,12 @@ mod tests {
         );
         let dofs = parse_dof_map(b"12.1\n12.2\n3.1\n".as_slice(), "j.dof").unwrap();
         let text = b"1 1  2.0000000000000e+00\n2 1 -5.0000000000000e-01\n2 2  4.0\n3 3 1.0\n";
-        let m = parse_matrix(text, "j.sti", &dofs, "j.dof", "j".into()).unwrap();
+        let m = parse_matrix(&text[..], "j.sti", &dofs, "j.dof", "j".into()).unwrap();
         assert_eq!(m.dofs, vec![g(3, 1), g(12, 1), g(12, 2)]);
         assert_eq!(m.get(g(12, 2), g(12, 1)), -0.5);
         assert_eq!(m.get(g(3, 1), g(3, 1)), 1.0);
-        let e = parse_matrix(b"1 4 1.0\n", "j.sti", &dofs, "j.dof", "j".into()).unwrap_err();
+        let e =
+            parse_matrix(b"1 4 1.0\n".as_slice(), "j.sti", &dofs, "j.dof", "j".into()).unwrap_err();
         assert!(
             e.to_string()
                 .starts_with("j.sti:1: equation 4 is not in j.dof, which lists 3 DOFs"),

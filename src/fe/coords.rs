@@ -13,10 +13,11 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
+use super::cards::Deck;
 use super::error::FeError;
-use super::fields::{Deck, Field, trim};
+use super::fields::{real, trim};
 use crate::fxb::coords as radioss;
-use crate::fxb::fields::{parse_int, parse_real};
+use crate::fxb::fields::parse_int;
 
 /// Node coordinates by ID.
 pub type NodeMap = BTreeMap<i64, [f64; 3]>;
@@ -38,6 +39,13 @@ pub fn read_coords(path: &Path) -> Result<NodeMap, FeError> {
     Ok(list.into_iter().collect())
 }
 
+/// Lines of a small text held whole, numbered from 1, without line endings.
+fn text_lines(text: &[u8]) -> impl Iterator<Item = (usize, &[u8])> {
+    text.split(|&c| c == b'\n')
+        .enumerate()
+        .map(|(k, l)| (k + 1, l.strip_suffix(b"\r").unwrap_or(l)))
+}
+
 #[derive(Debug, PartialEq, Eq)]
 enum Format {
     Radioss,
@@ -48,7 +56,7 @@ enum Format {
 
 fn detect(text: &[u8]) -> Format {
     let mut grid = false;
-    for (_, line) in super::lines(text) {
+    for (_, line) in text_lines(text) {
         if line.starts_with(b"/NODE") {
             return Format::Radioss;
         }
@@ -98,18 +106,10 @@ fn insert(
 /// Nastran GRID cards: `GRID ID CP X1 X2 X3 CD PS SEID`.
 pub fn parse_grids(text: &[u8], file: &str) -> Result<NodeMap, FeError> {
     let mut deck = Deck::new(text, file);
-    let mut fields: Vec<Field> = Vec::new();
     let mut map = NodeMap::new();
     let mut first = BTreeMap::new();
-    while let Some(head) = deck.next_card(|n| n.eq_ignore_ascii_case(b"GRID"), &mut fields)? {
-        let f = |k: usize| {
-            fields.get(k).copied().unwrap_or(Field {
-                text: &[],
-                line: head.line,
-                col: 0,
-                width: 0,
-            })
-        };
+    while let Some(card) = deck.next_card(|n| n.eq_ignore_ascii_case(b"GRID"))? {
+        let f = |k: usize| card.field(k);
         let id_f = f(0);
         let id = match id_f.int(file, "a GRID ID")? {
             Some(v) if v > 0 => v,
@@ -149,7 +149,7 @@ pub fn parse_grids(text: &[u8], file: &str) -> Result<NodeMap, FeError> {
             // A blank coordinate is 0.0 in Nastran.
             *v = f(2 + k).real(file, "a coordinate")?.unwrap_or(0.0);
         }
-        insert(&mut map, &mut first, file, head.line, "GRID", id, x)?;
+        insert(&mut map, &mut first, file, card.line, "GRID", id, x)?;
     }
     if map.is_empty() {
         return Err(FeError::invalid(
@@ -166,7 +166,7 @@ pub fn parse_abaqus_nodes(text: &[u8], file: &str) -> Result<NodeMap, FeError> {
     let mut map = NodeMap::new();
     let mut first = BTreeMap::new();
     let mut inside = false;
-    for (ln, line) in super::lines(text) {
+    for (ln, line) in text_lines(text) {
         if line.starts_with(b"**") || trim(line).is_empty() {
             continue;
         }
@@ -222,7 +222,7 @@ pub fn parse_abaqus_nodes(text: &[u8], file: &str) -> Result<NodeMap, FeError> {
             let id = parse_int(cells[0])?;
             let mut x = [0.0; 3];
             for (v, c) in x.iter_mut().zip(&cells[1..]) {
-                *v = parse_real(c)?;
+                *v = real(c)?;
             }
             Some((id, x))
         });

@@ -12,16 +12,19 @@
 use std::collections::BTreeSet;
 use std::path::Path;
 
+use std::io::{BufRead, BufReader};
+
+use super::cards::{Card, Deck};
 use super::error::FeError;
-use super::fields::{Deck, Field, trim};
+use super::fields::{Field, trim};
 use super::terms::{Storage, Terms};
 use super::{Dof, SymMatrix};
 
 /// Read the DMIG matrix `name` (case-insensitive) from a punch or bulk-data file.
 pub fn read_dmig(path: &Path, name: &str) -> Result<SymMatrix, FeError> {
-    let text = super::read_file(path)?;
     let file = path.display().to_string();
-    parse_dmig(&text, &file, name)
+    let reader = BufReader::with_capacity(1 << 20, super::open(path)?);
+    parse_dmig(reader, &file, name)
 }
 
 /// The header of the matrix: where it is, and its form.
@@ -30,34 +33,32 @@ struct Header {
     ifo: i64,
 }
 
-/// Read the DMIG matrix `name` from `text` (file name `file` for messages).
-pub fn parse_dmig(text: &[u8], file: &str, name: &str) -> Result<SymMatrix, FeError> {
-    let mut deck = Deck::new(text, file);
-    let mut fields: Vec<Field> = Vec::new();
+/// Read the DMIG matrix `name` from `reader` (file name `file` for messages).
+pub fn parse_dmig(reader: impl BufRead, file: &str, name: &str) -> Result<SymMatrix, FeError> {
+    let mut deck = Deck::new(reader, file);
     let mut names: BTreeSet<String> = BTreeSet::new();
     let mut header: Option<Header> = None;
     let mut first_column: Option<usize> = None;
     let mut terms = Terms::new(file);
     let mut includes: Option<usize> = None;
-    while let Some(head) = deck.next_card(
-        |n| n.eq_ignore_ascii_case(b"DMIG") || n.eq_ignore_ascii_case(b"INCLUDE"),
-        &mut fields,
-    )? {
-        if head.is("INCLUDE") {
-            includes.get_or_insert(head.line);
+    while let Some(card) =
+        deck.next_card(|n| n.eq_ignore_ascii_case(b"DMIG") || n.eq_ignore_ascii_case(b"INCLUDE"))?
+    {
+        if card.is("INCLUDE") {
+            includes.get_or_insert(card.line);
             continue;
         }
-        let card_name = fields.first().map_or(&[][..], |f| f.trimmed());
+        let card_name = card.field(0).trimmed();
         names.insert(String::from_utf8_lossy(card_name).into_owned());
         if !card_name.eq_ignore_ascii_case(name.as_bytes()) {
             continue;
         }
-        let second = fields.get(1).map(|f| f.trimmed()).unwrap_or_default();
+        let second = card.field(1).trimmed();
         if second == b"0" {
             if let Some(h) = &header {
                 return Err(FeError::invalid(
                     file,
-                    head.line,
+                    card.line,
                     format!(
                         "a second DMIG header for {name} (the first is on line {}): \
                          expected one header card (0 in field 3) per matrix",
@@ -65,10 +66,10 @@ pub fn parse_dmig(text: &[u8], file: &str, name: &str) -> Result<SymMatrix, FeEr
                     ),
                 ));
             }
-            header = Some(read_header(&fields, head.line, file, name)?);
+            header = Some(read_header(&card, file, name)?);
         } else {
-            first_column.get_or_insert(head.line);
-            read_column(&fields, head.line, file, &mut terms)?;
+            first_column.get_or_insert(card.line);
+            read_column(&card, file, &mut terms)?;
         }
     }
     let Some(header) = header else {
@@ -113,23 +114,12 @@ pub fn parse_dmig(text: &[u8], file: &str, name: &str) -> Result<SymMatrix, FeEr
     terms.finish(name.to_string(), storage)
 }
 
-fn field<'a>(fields: &[Field<'a>], k: usize) -> Field<'a> {
-    fields.get(k).copied().unwrap_or(Field {
-        text: &[],
-        line: 0,
-        col: 0,
-        width: 0,
-    })
-}
-
-fn read_header(fields: &[Field], line: usize, file: &str, name: &str) -> Result<Header, FeError> {
-    let int = |k: usize, what: &'static str| field(fields, k).int(file, what);
+fn read_header(card: &Card, file: &str, name: &str) -> Result<Header, FeError> {
+    let line = card.line;
+    let int = |k: usize, what: &'static str| card.field(k).int(file, what);
     let ifo = int(2, "IFO (field 4 of the DMIG header)")?;
     let tin = int(3, "TIN (field 5 of the DMIG header)")?;
-    let at = |k: usize| {
-        let f = field(fields, k);
-        if f.line == 0 { line } else { f.line }
-    };
+    let at = |k: usize| card.field(k).line;
     match ifo {
         Some(6) | Some(1) => {}
         Some(9) => {
@@ -219,13 +209,9 @@ fn comp(f: Field, g: i64, file: &str) -> Result<u8, FeError> {
     ))
 }
 
-fn read_column(
-    fields: &[Field],
-    line: usize,
-    file: &str,
-    terms: &mut Terms,
-) -> Result<(), FeError> {
-    let gj_f = field(fields, 1);
+fn read_column(card: &Card, file: &str, terms: &mut Terms) -> Result<(), FeError> {
+    let line = card.line;
+    let gj_f = card.field(1);
     let Some(gj) = id(gj_f, file, "GJ (the column's grid or point ID)")? else {
         return Err(FeError::syntax(
             file,
@@ -236,10 +222,10 @@ fn read_column(
             "a positive grid or scalar-point ID, found a blank field",
         ));
     };
-    let cj = comp(field(fields, 2), gj, file)?;
+    let cj = comp(card.field(2), gj, file)?;
     let col = terms.dof(Dof { id: gj, comp: cj }, line)?;
-    for e in fields.get(4..).unwrap_or_default().chunks(4) {
-        let [g, c, a, b] = [e[0], field(e, 1), field(e, 2), field(e, 3)];
+    for k in (4..card.len()).step_by(4) {
+        let [g, c, a, b] = [0, 1, 2, 3].map(|o| card.field(k + o));
         let Some(gi) = id(g, file, "G (an entry's grid or point ID)")? else {
             // Padding after the last entry; an entry with no ID is an error.
             if let Some(f) = [c, a, b].into_iter().find(|f| !f.is_blank()) {
@@ -346,5 +332,56 @@ DMIG    KAAX    12      2               12      2       4.5             +A
         let m = parse_dmig(text.as_bytes(), "s.bdf", "KAAX").unwrap();
         assert_eq!(m.dofs, vec![g(12, 2), g(13, 1), g(14, 0)]);
         assert_eq!(m.terms, vec![(0, 0, 4.5), (0, 1, -0.015), (0, 2, 0.25)]);
+    }
+
+    #[test]
+    fn square_form_needs_both_triangles_and_a_header_once() {
+        let col = |gj: i64, gi: i64, v: &str| {
+            format!(
+                "DMIG*   KAAX            {gj:>16}{:>16}\n*       {gi:>16}{:>16}{v:>16}\n",
+                1, 1
+            )
+        };
+        let head = "DMIG    KAAX           0       1       2       0\n";
+        let full = format!(
+            "{head}{}{}{}",
+            col(1, 1, "2.0"),
+            col(1, 2, "-1.0"),
+            col(2, 1, "-1.0")
+        );
+        let m = parse_dmig(full.as_bytes(), "q.pch", "KAAX").unwrap();
+        assert_eq!(m.terms, vec![(0, 0, 2.0), (0, 1, -1.0)]);
+        let one = format!("{head}{}{}", col(1, 1, "2.0"), col(1, 2, "-1.0"));
+        let e = parse_dmig(one.as_bytes(), "q.pch", "KAAX")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("q.pch:5: not symmetric: (2.1, 1.1) = -1 but (1.1, 2.1) = 0"),
+            "{e}"
+        );
+        let twice = format!("{head}{head}{}", col(1, 1, "2.0"));
+        let e = parse_dmig(twice.as_bytes(), "q.pch", "KAAX")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("q.pch:2: a second DMIG header for KAAX (the first is on line 1)"),
+            "{e}"
+        );
+        let none = col(1, 1, "2.0");
+        let e = parse_dmig(none.as_bytes(), "q.pch", "KAAX")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("q.pch:1: DMIG KAAX has column cards but no header card"),
+            "{e}"
+        );
+        let tab = format!("{head}DMIG*   KAAX\t1\n");
+        let e = parse_dmig(tab.as_bytes(), "q.pch", "KAAX")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("q.pch:2: cols 13-13: cannot read '<tab>'"),
+            "{e}"
+        );
     }
 }

@@ -19,6 +19,7 @@
 
 mod abaqus;
 mod calculix;
+mod cards;
 mod coords;
 mod dmig;
 mod error;
@@ -109,20 +110,38 @@ impl SymMatrix {
     }
 }
 
-/// Read a whole file, naming it in the error.
+/// Refuse anything but a regular file before reading it: a device or FIFO would be read
+/// without end.
+fn regular(path: &std::path::Path) -> Result<(), FeError> {
+    let file = path.display().to_string();
+    match std::fs::metadata(path) {
+        Ok(m) if m.is_file() => Ok(()),
+        Ok(_) => Err(FeError::invalid(
+            &file,
+            0,
+            "expected a regular file (a directory, device or pipe cannot be read as a matrix \
+             or coordinate file)",
+        )),
+        Err(source) => Err(FeError::Io { file, source }),
+    }
+}
+
+/// Read a whole file (a small one: coordinates), naming it in the error.
 fn read_file(path: &std::path::Path) -> Result<Vec<u8>, FeError> {
+    regular(path)?;
     std::fs::read(path).map_err(|source| FeError::Io {
         file: path.display().to_string(),
         source,
     })
 }
 
-/// Lines of a text, numbered from 1, without their line ending.
-fn lines(text: &[u8]) -> impl Iterator<Item = (usize, &[u8])> {
-    let text = text.strip_suffix(b"\n").unwrap_or(text);
-    text.split(|&c| c == b'\n')
-        .enumerate()
-        .map(|(k, l)| (k + 1, l.strip_suffix(b"\r").unwrap_or(l)))
+/// Open a file to stream it, naming it in the error.
+fn open(path: &std::path::Path) -> Result<std::fs::File, FeError> {
+    regular(path)?;
+    std::fs::File::open(path).map_err(|source| FeError::Io {
+        file: path.display().to_string(),
+        source,
+    })
 }
 
 /// The file stem, the name of a matrix that has no name inside its file.

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Writes the FE-reader fixtures of tests/fe_readers.rs (standard library only).
 
-    python3 tests/data/fe/make_fixtures.py      # rewrites every fixture in this folder
+    python3 tests/data/fe/make_fixtures.py [OUT_DIR]   # default: this folder
 
 An independent writer: it formats each layout from the format descriptions (Nastran DMIG
 punch, pyNastran-style large field, small and free field; Abaqus MATRIX INPUT; CalculiX
@@ -15,6 +15,7 @@ import os
 import random
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+OUT = HERE  # where write() puts files; main() sets it from the command line
 
 # DOFs: grid 21 (all six), grid 22 (translations), grid 105 (all six), scalar points
 # 900001..900003 (e.g. Craig-Bampton modal coordinates). Matrix order: grids by (id,
@@ -45,7 +46,7 @@ def short(a, digits=3):
 
 
 def write(name, text):
-    with open(os.path.join(HERE, name), "w", newline="\n") as f:
+    with open(os.path.join(OUT, name), "w", newline="\n") as f:
         f.write(text)
 
 
@@ -296,7 +297,9 @@ def errors():
           "1,1, 3,1, 0.25\n")
 
 
-def main():
+def main(out=None):
+    global OUT
+    OUT = out or HERE
     k = matrix(17, 2.0e8)
     m = matrix(18, 1.0)
     write("punch.pch", "\n".join(["$ DMIG punch layout (EXTSEOUT DMIGPCH), KAAX and MAAX"]
@@ -330,4 +333,5 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    import sys
+    main(sys.argv[1] if len(sys.argv) > 1 else None)
