@@ -77,7 +77,16 @@ pub fn fxb(
         .map(|rc| k_l[rc])
         .collect();
     let k_diag = (ns..nl).map(|r| k_l[(r, r)]).collect();
-    let freqs = eigenfrequencies_hz(&k_l, &nalgebra::DVector::from_column_slice(&m_l));
+    // With no static mode K_L is diagonal in the file: its frequencies need no solver.
+    let freqs = if ns == 0 {
+        let mut f: Vec<f64> = (0..nl)
+            .map(|j| (k_l[(j, j)] / m_l[j]).max(0.0).sqrt() / (2.0 * std::f64::consts::PI))
+            .collect();
+        f.sort_by(f64::total_cmp);
+        f
+    } else {
+        eigenfrequencies_hz(&k_l, &nalgebra::DVector::from_column_slice(&m_l))
+    };
     let freq = freqs.last().copied().unwrap_or(0.0);
     report.frequencies_hz = freqs;
     report.freq = freq;
