@@ -231,3 +231,76 @@ pub fn modes_on(
     }
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Rigid-mode amplitudes of a translation (columns 0..3) and of a small rotation about
+    /// L0 (columns 3..6), P0 = I (FORMULATION.md: modes 3j+c are X_j e_c, 9+c the rest).
+    fn rigid_map(nr: usize) -> DMatrix<f64> {
+        let mut g = DMatrix::zeros(nr, 6);
+        for c in 0..3 {
+            for j in 0..4 {
+                g[(3 * j + c, c)] = 1.0;
+            }
+            for j in 0..3 {
+                let v = Vector3::ith(c, 1.0).cross(&Vector3::ith(j, 1.0));
+                for r in 0..3 {
+                    g[(3 * j + r, 3 + c)] = v[r];
+                }
+            }
+            if nr == 15 {
+                g[(12 + c, 3 + c)] = 1.0;
+            }
+        }
+        g
+    }
+
+    #[test]
+    fn exact_m_r_gives_the_rigid_mass_and_inertia_with_and_without_rotations() {
+        let inertia = Matrix3::new(1.38, -0.99, -0.19, -0.99, 2.13, -0.29, -0.19, -0.29, 3.17);
+        for (irot, rotary) in [(false, 0.0), (true, 0.05), (true, 10.0)] {
+            let props = MassProps {
+                mass: 18.84,
+                com: [0.0; 3],
+                inertia,
+                rotary,
+                rb: DMatrix::zeros(6, 6),
+                r: DMatrix::zeros(0, 6),
+                local: BTreeMap::new(),
+                anisotropy: 0.0,
+            };
+            let (m_r, d) = props.m_r(irot);
+            let g = rigid_map(m_r.nrows());
+            let rb = g.transpose() * &m_r * &g;
+            for i in 0..6 {
+                for j in 0..6 {
+                    let want = match (i < 3, j < 3) {
+                        (true, true) => f64::from(u8::from(i == j)) * 18.84,
+                        (false, false) => inertia[(i - 3, j - 3)],
+                        _ => 0.0,
+                    };
+                    assert!((rb[(i, j)] - want).abs() < 1e-12, "irot {irot}: ({i},{j})");
+                }
+            }
+            // W (x) I3: the same block for every direction, so every attitude alike
+            for c in 1..3 {
+                for a in 0..4 {
+                    for b in 0..4 {
+                        assert_eq!(m_r[(3 * a + c, 3 * b + c)], m_r[(3 * a, 3 * b)]);
+                        assert_eq!(m_r[(3 * a + c, 3 * b)], 0.0);
+                    }
+                }
+            }
+            // the rotary share is clipped so that the affine part stays semi-definite
+            let e = SymmetricEigen::new(inertia).eigenvalues;
+            assert!(d >= 0.0 && d <= e.sum() - 2.0 * e.max() + 1e-15);
+            let w = SymmetricEigen::new(m_r.view((0, 0), (12, 12)).into_owned()).eigenvalues;
+            assert!(
+                w.min() > -1e-12,
+                "irot {irot}, d {d}: M_R not semi-definite"
+            );
+        }
+    }
+}
