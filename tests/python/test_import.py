@@ -237,6 +237,38 @@ def test_free_guyan_abaqus_mass_properties_and_modes(model, tmp_path):
     print(f"free Guyan: mass/CoM/inertia {props}, frequencies {ef:.2e}")
 
 
+@pytest.mark.parametrize("fmax", [None, 200.0])
+def test_free_statics_under_a_self_equilibrated_pair(model, tmp_path, fmax):
+    """Two opposite unit forces along the line from node 105 to node 110 (no net force or
+    moment): their relative displacement is the full model's (pseudo-inverse), with all
+    modes and with --fmax (static modes from the dropped modes' inertia-relief share)."""
+    ids, xyz, k, m = model
+    kg, mg, _ = im.guyan(k, m, im.dof_index(ids, FREE_IFACE))
+    dofs = im.reduced_dofs(ids, FREE_IFACE)
+    im.write_abaqus(tmp_path / "K.mtx", dofs, kg)
+    im.write_abaqus(tmp_path / "M.mtx", dofs, mg)
+    im.write_csv(tmp_path / "nodes.csv", ids, xyz)
+    extra = ["--fmax", fmax] if fmax else []
+    run_import("--stiffness", tmp_path / "K.mtx", "--mass", tmp_path / "M.mtx", "--coords",
+               tmp_path / "nodes.csv", "-o", tmp_path / "g.fxb", *extra)
+    f = read(tmp_path / "g.fxb")
+    a, b = ids.index(105), ids.index(110)
+    d = (xyz[b] - xyz[a]) / np.linalg.norm(xyz[b] - xyz[a])
+    load = np.zeros(k.shape[0])
+    load[6 * b : 6 * b + 3] = d
+    load[6 * a : 6 * a + 3] = -d
+    u = la.pinv(k) @ load
+    want = (u[6 * b : 6 * b + 3] - u[6 * a : 6 * a + 3]) @ d
+    ra, rb = node_rows(f, [105])[:3], node_rows(f, [110])[:3]
+    phi = f["local"]
+    q = la.solve(f["k_l"], phi[rb].T @ d - phi[ra].T @ d)
+    got = (phi[rb] @ q - phi[ra] @ q) @ d
+    e = abs(got / want - 1)
+    print(f"free statics (fmax {fmax}, {f['nbstat']} static modes): {e:.2e}")
+    assert (fmax is None) == (f["nbstat"] == 0)
+    assert e < 1e-8, f"free relative displacement off by {e:.2e}"
+
+
 def test_free_craig_bampton_punch(model, tmp_path):
     ids, xyz, k, m = model
     kc, mc, _, cut = im.craig_bampton(k, m, im.dof_index(ids, FREE_IFACE), 12)
