@@ -82,8 +82,9 @@ def reduced_dofs(ids, nodes, nmodes=0):
     return [(n, c) for n in nodes for c in range(1, 7)] + [(SPOINT0 + j, 0) for j in range(nmodes)]
 
 
-def rigid_props(xyz, k_unused, m, rows=None):
-    """Mass, centre of mass and inertia about it of a full 6-DOF-a-node model."""
+def rigid_props(xyz, k_unused, m):
+    """Mass, centre of mass and inertia about it of a full 6-DOF-a-node model, and the
+    rigid 6x6 R^T M R about the centre of mass."""
     n = len(xyz)
     r = np.zeros((6 * n, 6))
     for a in range(n):
@@ -91,9 +92,7 @@ def rigid_props(xyz, k_unused, m, rows=None):
             r[6 * a + c, c] = 1.0
             r[6 * a + 3 + c, 3 + c] = 1.0
     mass = (r[:, :3].T @ m @ r[:, :3]).trace() / 3
-    tx = r[:, :3]
-    s = np.array([np.sum((tx[:, c] * 0 + 1) * 0) for c in range(3)])  # placeholder
-    # centre of mass: first moments from translations against positions
+    # centre of mass: first moments, translations against positions
     pos = np.zeros((6 * n, 3))
     for a in range(n):
         for c in range(3):
