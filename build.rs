@@ -1,5 +1,5 @@
 //! Build script: generates the C header of the FMI ABI with cbindgen into `OUT_DIR`.
-//! The committed `include/fxbody.h` must equal it (checked by `tests/fmi_header.rs`), so
+//! The committed `include/fxbody.h` must equal it (checked by `tests/all/fmi/header.rs`), so
 //! C users always get a header that matches the library.
 
 use std::path::PathBuf;

@@ -39,7 +39,7 @@ fail=0
 
 echo "== 1. reader mutation: $CASES cases"
 start=$SECONDS
-FXBODY_MUTATION_CASES=$CASES cargo test --release --test reader_mutation -- --nocapture 2>&1 \
+FXBODY_MUTATION_CASES=$CASES cargo test --release --test alloc mutation -- --nocapture 2>&1 \
     | grep -E "mutation cases|test result|panicked|over the heap" || fail=1
 echo "   $((SECONDS - start)) s"
 
@@ -95,8 +95,8 @@ then echo "   no report attributable to the library ($((SECONDS - start)) s)"; e
 echo "== 4. misuse matrix and threads, $REPEAT times"
 start=$SECONDS
 for _ in $(seq "$REPEAT"); do
-    cargo test --release --test robust_fmi_misuse --test robust_fmi_args \
-        --test robust_fmi_states --test robust_threads --test robust_c_valgrind -q 2>&1 \
+    cargo test --release --test all -q -- fmi::call_sequence fmi::bad_args fmi::states \
+        fmi::threads fmi::c_valgrind 2>&1 \
         | grep -E "test result|panicked" | grep -v " 0 failed" && fail=1
 done
 echo "   $((SECONDS - start)) s"

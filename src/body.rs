@@ -24,6 +24,21 @@ pub struct Rayleigh {
 /// Mode matrices have one row per node DOF: row `6 * n + c` is node `n` (position in
 /// `node_ids`), component `c` (X Y Z XX YY ZZ). Local modes are in the local frame,
 /// rigid modes in the global frame (FORMULATION.md section 1).
+///
+/// Load a fixture and read its frequencies: the first is the cantilever's first bending
+/// mode, which Euler-Bernoulli theory puts at `1.8751^2 / (2 pi) sqrt(E I / (rho A L^4))`
+/// = 6.684133 Hz (steel, 1 m, 12 x 8 mm, bending about the thin side).
+///
+/// ```
+/// use std::path::Path;
+///
+/// let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/cantilever.fxb");
+/// let body = fxbody::fxb::load_body(&path)?;
+/// assert_eq!((body.nnodes(), body.nl(), body.nr()), (21, 20, 0)); // blocked: no rigid modes
+/// let f1 = body.frequencies_hz[0];
+/// assert!((f1 - 6.684133).abs() < 1e-5 * 6.684133, "{f1} Hz");
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Debug, Clone)]
 pub struct Body {
     /// Node IDs in file order.

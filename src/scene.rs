@@ -9,6 +9,27 @@ use crate::body::Body;
 use crate::reduce::{ReduceError, Residual, Truncation, truncate};
 
 /// A body and the part of it a simulation couples to.
+///
+/// A scene exposing the cantilever's mid-span and tip nodes, at the coordinates of its
+/// `/NODE` deck:
+///
+/// ```
+/// use std::{path::Path, sync::Arc};
+///
+/// use fxbody::fxb::{coords, load_body};
+/// use fxbody::scene::Scene;
+///
+/// let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures");
+/// let body = load_body(&dir.join("cantilever.fxb"))?;
+/// let xyz = coords::to_map(&coords::read_coords(&dir.join("cantilever.nodes.rad"))?);
+/// let ids = [111, 121];
+/// let nodes = ids.iter().map(|id| body.node_index(*id).ok_or("no such node"));
+/// let nodes = nodes.collect::<Result<Vec<usize>, _>>()?;
+/// let scene = Scene::new(Arc::new(body), nodes, ids.iter().map(|id| xyz[id]).collect());
+/// assert_eq!(scene.nodes, [10, 20]); // positions in the node list 101..=121
+/// assert_eq!(scene.x0[1], [1.0, 0.0, 0.0]); // the tip, 1 m along X
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Debug, Clone)]
 pub struct Scene {
     /// The whole validated body.

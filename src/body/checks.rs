@@ -355,7 +355,8 @@ pub(super) fn check_body(b: &Body, name: &str) -> Result<Vec<String>, BodyError>
             warnings.push(format!(
                 "{name}: block 3: stored Freq = {} Hz differs from the largest eigenfrequency \
                  of (K_L, m_L) = {} Hz by more than 1%; the stable step uses the computed one",
-                b.freq_file, fmax
+                crate::num::num(b.freq_file),
+                crate::num::num(fmax)
             ));
         }
     }

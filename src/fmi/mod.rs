@@ -26,5 +26,5 @@ mod uri;
 pub mod values;
 
 /// The C header cbindgen generated for this build (build.rs). The committed
-/// `include/fxbody.h` must equal it; `tests/fmi_header.rs` checks.
+/// `include/fxbody.h` must equal it; `tests/all/fmi/header.rs` checks.
 pub const GENERATED_HEADER: &str = include_str!(concat!(env!("OUT_DIR"), "/fxbody.h"));

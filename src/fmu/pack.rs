@@ -363,6 +363,36 @@ pub fn archive(p: &Prepared, lib: &[u8]) -> Result<Vec<u8>, PackError> {
 }
 
 /// Pack `req` with the library at `lib` into `out`. Returns the prepared scene.
+///
+/// A program next to `libfxbody.so` finds it with [`find_library`]`(None)`; this
+/// example, run by the tests from elsewhere, takes the one cargo built, and reads the
+/// archive back with the workspace's FMU importer (`fxbody_host`, a dev-dependency).
+///
+/// ```
+/// use std::path::Path;
+///
+/// use fxbody::fmu::pack::{PackRequest, pack};
+///
+/// let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+/// # let lib = ["release", "debug"].iter().map(|p| root.join("target").join(p).join("libfxbody.so"))
+/// #     .find(|p| p.is_file()).expect("libfxbody.so: run cargo build first");
+/// let req = PackRequest {
+///     body: root.join("fixtures/cantilever.fxb"),
+///     coords: Some(root.join("fixtures/cantilever.nodes.rad")),
+///     nodes: Some(vec![121]),
+///     ..PackRequest::default()
+/// };
+/// let dir = std::env::temp_dir().join(format!("fxbody_doc_pack_{}", std::process::id()));
+/// std::fs::create_dir_all(&dir)?;
+/// let prepared = pack(&req, &lib, &dir.join("tip.fmu"))?;
+/// assert!(prepared.table.vars.iter().any(|v| v.name == "node_121.fy"));
+/// let files = fxbody_host::zip::read(&std::fs::read(dir.join("tip.fmu"))?)?;
+/// let names: Vec<&str> = files.iter().map(|(name, _)| name.as_str()).collect();
+/// assert!(names.contains(&"modelDescription.xml"));
+/// assert!(names.contains(&"binaries/linux64/cantilever.so"));
+/// std::fs::remove_dir_all(&dir)?;
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn pack(req: &PackRequest, lib: &Path, out: &Path) -> Result<Prepared, PackError> {
     pack_with(req, None, lib, out)
 }

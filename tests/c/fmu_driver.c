@@ -1,7 +1,7 @@
 /* A C master for a packed fxbody FMU: includes the generated header, loads the FMU's
  * library with dlopen, checks all 34 FMI 2.0 co-simulation exports are there, runs
  * instantiate, setup, init, then N x (setReal force, doStep), getReal, free, and prints
- * the final output value. Built and run by tests/fmi_c.rs (and timed by the benchmark).
+ * the final output value. Built and run by tests/all/fmi/c_master.rs (and timed by the benchmark).
  *
  * usage: fmu_driver LIB RESOURCE_URI GUID VR_IN VR_OUT STEPS H FORCE [bench]
  */

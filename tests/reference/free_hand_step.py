@@ -3,13 +3,20 @@
 Independent of the Rust code: builds a three-node lumped-mass spring triangle, writes the
 raw .fxb block values it implies (FORMULATION.md section 1 definitions), then runs two
 cycles of the scheme of FORMULATION.md section 4 literally (unscaled 18x18 / 24x24
-saddle-point system solved by numpy). Prints Rust constants that are pasted into
-tests/free_explicit_hand.rs.
+saddle-point system solved by numpy). Writes the raw blocks, the steps and the results
+to tests/data/free_hand_step.json, which the Rust tests (free::explicit::hand_*) load;
+tests/python/test_free_hand_step.py checks the committed file is what this script writes.
 
-Run: python tests/reference/free_hand_step.py  (numpy only)
+Run: python tests/reference/free_hand_step.py [--out FILE]  (numpy only)
 """
 
+import argparse
+import json
+import os
+
 import numpy as np
+
+DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "data", "free_hand_step.json")
 
 
 def rot(ax, ay, az):
@@ -55,6 +62,10 @@ def build(irot):
     s = 1 / np.sqrt(np.diag(Mt))
     lam, vec = np.linalg.eigh(s[:, None] * Kt * s[None, :])
     phis = s[:, None] * vec[:, lam > 1e-6 * lam.max()]
+    # Sign rule: each mode's local z at the first node (0.44, 0.17, ... of the mode's
+    # scale) positive. LAPACK may return either sign; a fixed rule makes the output the
+    # same on every machine (this one keeps the values first committed).
+    phis = phis * np.sign(phis[2])
     phi1 = np.zeros(ndof)
     phi2 = np.zeros(ndof)
     th = 0.4
@@ -241,16 +252,15 @@ def run(body, scene, comm, nsub, jump=None):
                 pos=np.concatenate(pos))
 
 
-def rs(name, arr):
-    arr = np.asarray(arr, dtype=float).reshape(-1)
-    vals = ", ".join(repr(float(v)) for v in arr)
-    return f"pub const {name}: [f64; {arr.size}] = [{vals}];"
+def flat(arr):
+    return [float(v) for v in np.asarray(arr, dtype=float).reshape(-1)]
 
 
-def main():
+def compute():
+    """Both bodies (Irot 0 and 1): the raw blocks, the steps and the three cases."""
+    out = {}
     for irot in (False, True):
         raw, body = build(irot)
-        tag = "ROT" if irot else "NOROT"
         dt_fx = 1 / (np.pi * body["freq"])  # undamped bound; the scheme's steps stay below
         # Case A: one communication step of two internal steps (h = 1.4 x 0.9 dt_fx).
         # Case B: two communication steps of one internal step each, loads unchanged
@@ -265,28 +275,38 @@ def main():
         out1 = run(body, scene, [ha], 2)
         out2 = run(body, scene, hb, 1)
         out3 = run(body, scene, hb, 1, jump=JUMP)
-        print(f"// ---- {tag} body (irot = {irot})")
-        print(f"pub mod {tag.lower()} {{")
-        print(rs("P0", raw["p0"]))
-        print(f"pub const FREQ: f64 = {float(raw['freq'])!r};")
-        print(f"pub const DAMPING: (f64, f64) = ({raw['damping'][0]!r}, {raw['damping'][1]!r});")
+        case = {"p0": flat(raw["p0"]), "freq": float(raw["freq"]),
+                "damping": [float(v) for v in raw["damping"]]}
         for key in ["rigid_modes", "local_modes", "m_l", "k_full", "k_diag", "m_r", "m_c", "k_c"]:
-            print(rs(key.upper(), raw[key]))
-        print(rs("X0", body["x"]))
-        print(f"pub const HA: f64 = {float(ha)!r};")
-        print(rs("HB", hb))
-        print(rs("JUMP", JUMP))
-        print(rs("QA", out1["q"]))
-        print(rs("VA", out1["v"]))
-        print(rs("PA", out1["p"].reshape(-1)))
-        print(rs("QB", out2["q"]))
-        print(rs("VB", out2["v"]))
-        print(rs("PB", out2["p"].reshape(-1)))
-        print(rs("POSB", out2["pos"]))
-        print(rs("QC", out3["q"]))
-        print(rs("VC", out3["v"]))
-        print(rs("PC", out3["p"].reshape(-1)))
-        print("}")
+            case[key] = flat(raw[key])
+        case.update(x0=flat(body["x"]), ha=float(ha), hb=flat(hb), jump=flat(JUMP),
+                    qa=flat(out1["q"]), va=flat(out1["v"]), pa=flat(out1["p"]),
+                    qb=flat(out2["q"]), vb=flat(out2["v"]), pb=flat(out2["p"]),
+                    posb=flat(out2["pos"]),
+                    qc=flat(out3["q"]), vc=flat(out3["v"]), pc=flat(out3["p"]))
+        out["rot" if irot else "norot"] = case
+    return out
+
+
+def write(data, path):
+    """One key per line: the file diffs by quantity."""
+    lines = ['{"source": "written by tests/reference/free_hand_step.py; do not edit",']
+    for i, (name, case) in enumerate(data.items()):
+        lines.append(f' "{name}": {{')
+        items = list(case.items())
+        for j, (key, value) in enumerate(items):
+            comma = "," if j + 1 < len(items) else ""
+            lines.append(f'  "{key}": {json.dumps(value)}{comma}')
+        lines.append(" }" + ("," if i + 1 < len(data) else ""))
+    lines.append("}")
+    with open(path, "w") as f:
+        f.write("\n".join(lines) + "\n")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--out", default=DATA, help="output file (default: tests/data/free_hand_step.json)")
+    write(compute(), ap.parse_args().out)
 
 
 if __name__ == "__main__":

@@ -180,8 +180,13 @@ fn text(i: &Info, path: &std::path::Path) -> String {
     }
     let _ = writeln!(
         o,
-        "stable step of the explicit scheme (from the largest computed frequency, as the solvers use it): {} s",
-        significant(i.dt_stab_s, 7)
+        "stable step of the explicit scheme (from the largest computed frequency, as the solvers use it): {} s; the explicit method's internal steps are {} of it: {} s",
+        significant(i.dt_stab_s, 7),
+        fxbody::solver::Options::default().dt_factor,
+        significant(
+            fxbody::solver::Options::default().dt_factor * i.dt_stab_s,
+            7
+        )
     );
     match i.mass {
         Some(m) => {

@@ -10,6 +10,11 @@
 //!   method, and the error does not grow as modes are added (it is checked against the
 //!   full FE model, not against our own untruncated run);
 //! - the chart has one panel per scene.
+//!
+//! It stays in the cli package (the study is a package of its own, run through the
+//! command), and being an integration test of that package it makes `cargo test` build
+//! target/release/fxbody, which the root package's tests (tests/all/cli and others) run
+//! through `fxbody_host::workspace_binary`.
 
 use std::path::PathBuf;
 use std::process::Command;

@@ -513,9 +513,10 @@ impl Drop for Instance<'_> {
 
 /// The path of a binary of this workspace (`name`, e.g. `"fxbody"`) for a test or a
 /// bench: in the profile folder of the running executable (`target/release/deps/x` ->
-/// `target/release/fxbody`). `cargo test` and `cargo build` at the workspace root build it
-/// (crates/cli is a default member); `CARGO_BIN_EXE_*` covers only a package's own
-/// binaries, and the command lives in the cli package.
+/// `target/release/fxbody`). `cargo build` at the workspace root builds it (crates/cli is a
+/// default member), and so does `cargo test` (the cli package has an integration test);
+/// `CARGO_BIN_EXE_*` covers only a package's own binaries, and the command lives in the
+/// cli package.
 pub fn workspace_binary(name: &str) -> PathBuf {
     let exe = std::env::current_exe().expect("the running test knows its own path");
     let mut dir = exe

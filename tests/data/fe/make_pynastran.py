@@ -6,7 +6,7 @@ pyNastran 1.4.1 pins numpy 1.x, so it lives in a venv of its own, not in the tes
     python3 -m venv /tmp/pyn && /tmp/pyn/bin/pip install pyNastran==1.4.1
     /tmp/pyn/bin/python tests/data/fe/make_pynastran.py
 
-The file is committed, so the Rust test (tests/fe_readers.rs) needs no Python. It holds
+The file is committed, so the Rust test (tests/all/format/fe.rs) needs no Python. It holds
 GRID (large field), SPOINT and the KAAX and MAAX matrices of make_fixtures.py (the same
 values as expected_punch_kaax.csv and expected_punch_maax.csv), one upper triangle each,
 written large-field double precision as pyNastran does (size=16, is_double=True).

@@ -1,0 +1,3 @@
+//! The repository's documentation.
+
+mod citations;

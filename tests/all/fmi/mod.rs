@@ -1,0 +1,13 @@
+//! The FMI 2.0 boundary: the exports, the generated header and model description, C
+//! masters, and every misuse a careless master can make.
+
+mod bad_args;
+mod c_master;
+mod c_valgrind;
+mod call_sequence;
+mod header;
+mod host_abi;
+mod model_description;
+mod nonfinite;
+mod states;
+mod threads;

@@ -1,0 +1,281 @@
+//! The shipped fixtures' modelDescription.xml files in `modelDescription/` equal what
+//! `fxbody pack` generates now (stale files fail; `FXBODY_BLESS=1` rewrites them), and
+//! what the library serves agrees with them.
+
+use std::path::Path;
+
+use crate::common::root;
+use fxbody::fmu::pack::{PackRequest, prepare};
+use fxbody::fmu::scene_io::load_resources;
+
+const BODIES: [&str; 4] = ["cantilever", "cantilever_damped", "freefree", "truss"];
+
+fn request(body: &str) -> PackRequest {
+    PackRequest {
+        body: root().join(format!("fixtures/{body}.fxb")),
+        coords: Some(root().join(format!("fixtures/{body}.nodes.rad"))),
+        ..PackRequest::default()
+    }
+}
+
+#[test]
+fn golden_model_descriptions_are_fresh() {
+    let bless = std::env::var_os("FXBODY_BLESS").is_some();
+    let mut stale = Vec::new();
+    for body in BODIES {
+        let p = prepare(&request(body)).unwrap_or_else(|e| panic!("{body}: {e}"));
+        let path = root().join(format!("modelDescription/{body}.xml"));
+        if bless {
+            std::fs::write(&path, &p.xml).expect("write golden file");
+        } else if std::fs::read_to_string(&path).ok().as_deref() != Some(p.xml.as_str()) {
+            stale.push(path.display().to_string());
+        }
+    }
+    assert!(
+        stale.is_empty(),
+        "stale: {stale:?}; regenerate with `FXBODY_BLESS=1 cargo test --release --test all fmi::model_description`"
+    );
+}
+
+#[test]
+fn same_input_same_bytes_and_runtime_agrees_with_the_description() {
+    let tmp = std::env::temp_dir().join(format!("fxbody_golden_{}", std::process::id()));
+    std::fs::create_dir_all(tmp.join("resources")).unwrap();
+    let req = request("cantilever");
+    let a = prepare(&req).unwrap();
+    let b = prepare(&req).unwrap();
+    let lib = b"not a library, only bytes to pack";
+    let za = fxbody::fmu::pack::archive(&a, lib).unwrap();
+    assert_eq!(
+        za,
+        fxbody::fmu::pack::archive(&b, lib).unwrap(),
+        "byte-for-byte reproducible"
+    );
+    // Unpack the resources and rebuild the model the way fmi2Instantiate does.
+    for (name, data) in fxbody_host::zip::read(&za).unwrap() {
+        if let Some(rest) = name.strip_prefix("resources/") {
+            std::fs::write(tmp.join("resources").join(rest), data).unwrap();
+        }
+    }
+    let res = load_resources(&tmp.join("resources")).unwrap();
+    assert_eq!(res.guid, a.guid);
+    let table = fxbody::fmu::vars::VarTable::new(&res.scene);
+    assert_eq!(table, a.table);
+    assert!(a.xml.contains(&format!("guid=\"{}\"", a.guid)));
+    // Every variable of the table is in the XML with its value reference.
+    for v in &table.vars {
+        assert!(
+            a.xml
+                .contains(&format!("name=\"{}\" valueReference=\"{}\"", v.name, v.vr)),
+            "{}",
+            v.name
+        );
+    }
+    // A different option gives a different GUID.
+    let other = prepare(&PackRequest {
+        nodes: Some(vec![121]),
+        ..req
+    })
+    .unwrap();
+    assert_ne!(other.guid, a.guid);
+    let _ = std::fs::remove_dir_all(&tmp);
+}
+
+#[test]
+fn variables_follow_the_interface_names() {
+    let p = prepare(&request("cantilever")).unwrap();
+    let names: Vec<&str> = p.table.vars.iter().map(|v| v.name.as_str()).collect();
+    // Tip node 121 carries rotations (a beam): six load inputs; the clamped node 101 has
+    // zero mode shapes everywhere, so no moments there.
+    for n in [
+        "method",
+        "rho_inf",
+        "node_121.fx",
+        "node_121.mz",
+        "node_121.x",
+        "node_121.vz",
+        "energy.kinetic",
+        "energy.strain",
+    ] {
+        assert!(names.contains(&n), "{n}");
+    }
+    assert!(names.contains(&"node_101.fx") && !names.contains(&"node_101.mx"));
+    assert!(!names.contains(&"gravity.x") && !names.contains(&"frame.P11"));
+    // 21 nodes: 20 with 6 loads + 1 with 3, 6 outputs each, 2 parameters, 2 energies.
+    assert_eq!(names.len(), 2 + 20 * 6 + 3 + 21 * 6 + 2);
+    let free = prepare(&request("freefree")).unwrap();
+    let fnames: Vec<&str> = free.table.vars.iter().map(|v| v.name.as_str()).collect();
+    for n in [
+        "gravity.z",
+        "v0.x",
+        "w0.y",
+        "frame.x",
+        "frame.P11",
+        "frame.P33",
+    ] {
+        assert!(fnames.contains(&n), "{n}");
+    }
+    assert!(
+        free.xml.contains("<Item name=\"implicit\" value=\"2\"")
+            && !free.xml.contains("name=\"exact\"")
+    );
+    assert!(p.xml.contains("<Item name=\"exact\" value=\"3\""));
+}
+
+#[test]
+fn free_body_coordinates_from_rigid_modes_match_the_deck() {
+    // Independent reference: the fixture's /NODE deck and its centre of mass (the
+    // generator puts L0 there): deck - com must equal P0 (X, Y, Z) from the rigid modes.
+    let body = fxbody::fxb::load_body(&root().join("fixtures/freefree.fxb")).unwrap();
+    let derived = fxbody::fmu::scene_io::coords_from_rigid_modes(&body).unwrap();
+    let deck =
+        fxbody::fxb::coords::read_coords(&root().join("fixtures/freefree.nodes.rad")).unwrap();
+    let refj = std::fs::read_to_string(root().join("fixtures/freefree.ref.json")).unwrap();
+    let com = json_vec3(&refj, "\"center_of_mass\"");
+    let map = fxbody::fxb::coords::to_map(&deck);
+    let mut worst: f64 = 0.0;
+    for (id, x) in &derived {
+        let d = map[id];
+        for c in 0..3 {
+            worst = worst.max((x[c] - (d[c] - com[c])).abs());
+        }
+    }
+    assert!(
+        worst < 1e-9,
+        "derived coordinates differ from deck - com by {worst}"
+    );
+    assert!(
+        fxbody::fmu::scene_io::coords_from_rigid_modes(
+            &fxbody::fxb::load_body(&root().join("fixtures/cantilever.fxb")).unwrap()
+        )
+        .is_none()
+    );
+}
+
+fn json_vec3(text: &str, key: &str) -> [f64; 3] {
+    let at = text.find(key).expect("key present");
+    let rest = &text[at + key.len()..];
+    let open = rest.find('[').unwrap();
+    let close = rest.find(']').unwrap();
+    let v: Vec<f64> = rest[open + 1..close]
+        .split(',')
+        .map(|s| s.trim().parse().unwrap())
+        .collect();
+    [v[0], v[1], v[2]]
+}
+
+#[test]
+fn pack_errors_are_clear() {
+    let lib = Path::new("/nonexistent/lib.so");
+    let e = prepare(&PackRequest {
+        nodes: Some(vec![121, 999]),
+        ..request("cantilever")
+    })
+    .err()
+    .unwrap()
+    .to_string();
+    assert!(e.contains("node 999 is not a node of"), "{e}");
+    let e = prepare(&PackRequest {
+        coords: None,
+        ..request("cantilever")
+    })
+    .err()
+    .unwrap()
+    .to_string();
+    assert!(e.contains("blocked body needs node coordinates"), "{e}");
+    let e = fxbody::fmu::pack::pack(&request("cantilever"), lib, Path::new("/tmp/x.fmu"))
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(e.contains("cannot read the library"), "{e}");
+    let this = std::env::current_exe().unwrap();
+    let e = fxbody::fmu::pack::pack(
+        &request("cantilever"),
+        &this,
+        Path::new("/nonexistent/dir/x.fmu"),
+    )
+    .err()
+    .unwrap()
+    .to_string();
+    assert!(
+        e.contains("/nonexistent/dir/x.fmu: cannot write the FMU"),
+        "{e}"
+    );
+    let e = prepare(&PackRequest {
+        units: Some("furlongs".into()),
+        ..request("cantilever")
+    })
+    .err()
+    .unwrap()
+    .to_string();
+    assert!(e.contains("unknown unit system 'furlongs'"), "{e}");
+}
+
+#[test]
+fn pack_command_reports_errors_with_exit_code_2() {
+    let exe = fxbody_host::workspace_binary("fxbody");
+    let run = |args: &[&str]| {
+        std::process::Command::new(&exe)
+            .args(args)
+            .output()
+            .unwrap()
+    };
+    let body = root().join("fixtures/cantilever.fxb");
+    let deck = root().join("fixtures/cantilever.nodes.rad");
+    let (b, d) = (body.to_str().unwrap(), deck.to_str().unwrap());
+    let lib = std::env::current_exe().unwrap();
+    let l = lib.to_str().unwrap();
+    for (args, want) in [
+        (
+            vec![
+                "pack",
+                b,
+                "--coords",
+                d,
+                "--nodes",
+                "121,5",
+                "--lib",
+                l,
+                "-o",
+                "/tmp/never.fmu",
+            ],
+            "node 5 is not a node of",
+        ),
+        (
+            vec!["pack", b, "--lib", l, "-o", "/tmp/never.fmu"],
+            "needs node coordinates",
+        ),
+        (
+            vec![
+                "pack",
+                b,
+                "--coords",
+                d,
+                "--lib",
+                l,
+                "-o",
+                "/nonexistent/x.fmu",
+            ],
+            "cannot write the FMU",
+        ),
+        (
+            vec![
+                "pack",
+                b,
+                "--coords",
+                d,
+                "--lib",
+                "/nonexistent/lib.so",
+                "-o",
+                "/tmp/never.fmu",
+            ],
+            "--lib /nonexistent/lib.so: no such file",
+        ),
+    ] {
+        let out = run(&args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert!(err.contains(want), "{args:?}: {err}");
+    }
+    assert!(!Path::new("/tmp/never.fmu").exists());
+}

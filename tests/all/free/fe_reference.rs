@@ -1,0 +1,423 @@
+//! The free-free beam fixture (fixtures/freefree.*) against its full finite-element
+//! reference (freefree.ref.json: exact modal superposition with all FE modes, rigid
+//! modes integrated exactly), and the momentum balance of a force pulse.
+
+use std::sync::Arc;
+
+use crate::common::fixture;
+use fxbody::body::Body;
+use fxbody::fxb::coords::{read_coords, to_map};
+use fxbody::fxb::load_body;
+use fxbody::scene::Scene;
+use fxbody::solver::{Method, Options, Solver, build};
+use nalgebra::{DVector, Matrix3, Vector3};
+
+/// A minimal reader for the reference JSON (numbers, strings, arrays, objects) so the
+/// test needs no JSON dependency.
+mod json {
+    #[derive(Debug, Clone)]
+    pub enum V {
+        Num(f64),
+        Str(String),
+        Arr(Vec<V>),
+        Obj(Vec<(String, V)>),
+        Null,
+        Bool,
+    }
+    impl V {
+        pub fn get(&self, k: &str) -> &V {
+            match self {
+                V::Obj(m) => {
+                    &m.iter()
+                        .find(|(n, _)| n == k)
+                        .unwrap_or_else(|| panic!("no key {k}"))
+                        .1
+                }
+                _ => panic!("not an object"),
+            }
+        }
+        pub fn num(&self) -> f64 {
+            match self {
+                V::Num(x) => *x,
+                _ => panic!("not a number"),
+            }
+        }
+        pub fn arr(&self) -> &[V] {
+            match self {
+                V::Arr(a) => a,
+                _ => panic!("not an array"),
+            }
+        }
+        pub fn nums(&self) -> Vec<f64> {
+            self.arr().iter().map(V::num).collect()
+        }
+        pub fn str(&self) -> &str {
+            match self {
+                V::Str(s) => s,
+                _ => panic!("not a string"),
+            }
+        }
+    }
+    pub fn parse(s: &str) -> V {
+        let b = s.as_bytes();
+        let mut i = 0;
+        value(b, &mut i)
+    }
+    fn ws(b: &[u8], i: &mut usize) {
+        while *i < b.len() && b[*i].is_ascii_whitespace() {
+            *i += 1;
+        }
+    }
+    fn value(b: &[u8], i: &mut usize) -> V {
+        ws(b, i);
+        match b[*i] {
+            b'{' => {
+                *i += 1;
+                let mut m = Vec::new();
+                loop {
+                    ws(b, i);
+                    if b[*i] == b'}' {
+                        *i += 1;
+                        break;
+                    }
+                    let k = match value(b, i) {
+                        V::Str(s) => s,
+                        _ => panic!("key"),
+                    };
+                    ws(b, i);
+                    *i += 1; // ':'
+                    let v = value(b, i);
+                    m.push((k, v));
+                    ws(b, i);
+                    if b[*i] == b',' {
+                        *i += 1;
+                    }
+                }
+                V::Obj(m)
+            }
+            b'[' => {
+                *i += 1;
+                let mut a = Vec::new();
+                loop {
+                    ws(b, i);
+                    if b[*i] == b']' {
+                        *i += 1;
+                        break;
+                    }
+                    a.push(value(b, i));
+                    ws(b, i);
+                    if b[*i] == b',' {
+                        *i += 1;
+                    }
+                }
+                V::Arr(a)
+            }
+            b'"' => {
+                *i += 1;
+                let mut s = String::new();
+                while b[*i] != b'"' {
+                    if b[*i] == b'\\' {
+                        *i += 1;
+                    }
+                    s.push(b[*i] as char);
+                    *i += 1;
+                }
+                *i += 1;
+                V::Str(s)
+            }
+            b'n' => {
+                *i += 4;
+                V::Null
+            }
+            b't' => {
+                *i += 4;
+                V::Bool
+            }
+            b'f' => {
+                *i += 5;
+                V::Bool
+            }
+            _ => {
+                let st = *i;
+                while *i < b.len()
+                    && (b[*i] == b'-'
+                        || b[*i] == b'+'
+                        || b[*i] == b'.'
+                        || b[*i] == b'e'
+                        || b[*i] == b'E'
+                        || b[*i].is_ascii_digit())
+                {
+                    *i += 1;
+                }
+                V::Num(std::str::from_utf8(&b[st..*i]).unwrap().parse().unwrap())
+            }
+        }
+    }
+}
+
+struct Fixture {
+    body: Arc<Body>,
+    reference: json::V,
+    coords: std::collections::HashMap<i64, [f64; 3]>,
+}
+
+fn named(name: &str) -> Fixture {
+    let body = Arc::new(load_body(&fixture(&format!("{name}.fxb"))).expect("fixture loads"));
+    let text = std::fs::read_to_string(fixture(&format!("{name}.ref.json"))).unwrap();
+    let coords = to_map(&read_coords(&fixture(&format!("{name}.nodes.rad"))).unwrap());
+    Fixture {
+        body,
+        reference: json::parse(&text),
+        coords,
+    }
+}
+
+impl Fixture {
+    fn scene(&self, ids: &[i64]) -> Scene {
+        let nodes: Vec<usize> = ids
+            .iter()
+            .map(|&id| self.body.node_index(id).unwrap())
+            .collect();
+        let x0 = ids.iter().map(|id| self.coords[id]).collect();
+        Scene::new(self.body.clone(), nodes, x0)
+    }
+}
+
+/// Linear momentum of the formulation, `s_c^T (M_R v_R + M_C(P) v_L)` per direction c,
+/// from the body's matrices and the solver's coordinate velocities.
+fn momentum(body: &Body, v: &DVector<f64>, p: &Matrix3<f64>) -> Vector3<f64> {
+    let nr = body.nr();
+    let vr = v.rows(0, nr);
+    let vl = v.rows(nr, body.nl());
+    let mut mv = &body.m_r * vr;
+    for k in 0..3 {
+        for l in 0..3 {
+            mv += p[(k, l)] * (&body.m_c[3 * k + l] * vl);
+        }
+    }
+    Vector3::from_fn(|c, _| (0..4).map(|j| mv[3 * j + c]).sum())
+}
+
+/// Run one response case of the reference and return the largest error of the tip and
+/// mid-node displacements, relative to the largest reference displacement.
+fn response_error(method: Method, case: &str, stride: usize) -> (f64, f64) {
+    response_error_on("freefree", method, case, stride)
+}
+
+fn response_error_on(name: &str, method: Method, case: &str, stride: usize) -> (f64, f64) {
+    let fx = named(name);
+    let r = fx
+        .reference
+        .get("responses")
+        .arr()
+        .iter()
+        .find(|r| r.get("name").str() == case)
+        .unwrap()
+        .clone();
+    let tip = fx.reference.get("tip_node").num() as i64;
+    let ids: Vec<i64> = match r.get("nodes") {
+        json::V::Obj(m) => m.iter().map(|(k, _)| k.parse().unwrap()).collect(),
+        _ => unreachable!(),
+    };
+    assert_eq!(r.get("load_dof").str(), "fy");
+    assert_eq!(r.get("load_node").num() as i64, tip);
+    let amp = r.get("amplitude").num();
+    let duration = match r.get("duration") {
+        json::V::Num(d) => *d,
+        _ => f64::INFINITY,
+    };
+    let t = r.get("t").nums();
+    let scene = fx.scene(&ids);
+    let tip_k = ids.iter().position(|&i| i == tip).unwrap();
+    let mut s = build(&scene, method, &Options::default()).unwrap();
+    let x0: Vec<f64> = ids.iter().flat_map(|id| fx.coords[id]).collect();
+    let mut x = vec![0.0; x0.len()];
+    let mut loads = vec![0.0; 6 * ids.len()];
+    let refs: Vec<[Vec<f64>; 3]> = ids
+        .iter()
+        .map(|id| {
+            let n = r.get("nodes").get(&id.to_string());
+            [n.get("ux").nums(), n.get("uy").nums(), n.get("uz").nums()]
+        })
+        .collect();
+    let peak = refs
+        .iter()
+        .flat_map(|c| c.iter().flat_map(|v| v.iter()))
+        .fold(0.0f64, |m, v| m.max(v.abs()));
+    let mut worst: f64 = 0.0;
+    let mut n = 0;
+    while n + stride < t.len() {
+        let h = t[n + stride] - t[n];
+        let on = t[n] < duration - 1e-12;
+        loads[6 * tip_k + 1] = if on { amp } else { 0.0 };
+        s.set_loads(&loads).unwrap();
+        s.step(h).unwrap();
+        n += stride;
+        s.positions(&mut x);
+        for (k, rc) in refs.iter().enumerate() {
+            for c in 0..3 {
+                let u = x[3 * k + c] - x0[3 * k + c];
+                worst = worst.max((u - rc[c][n]).abs());
+            }
+        }
+    }
+    (worst / peak, peak)
+}
+
+/// Pulse of 0.1 N for 2 ms at the tip, explicit: tip and mid-node displacements (all
+/// three components, 70 ms) within 1 % of the peak of the full-FE reference.
+#[test]
+fn pulse_explicit_matches_fe() {
+    let (err, peak) = response_error(Method::Explicit, "pulse", 1);
+    println!("explicit pulse: error {err:.3e} of peak {peak:.3e} m");
+    assert!(err < 0.01, "explicit pulse error {err:.3e} of the peak");
+}
+
+/// Step load of 0.1 N at the tip, explicit: within 1 % of the peak of the FE reference.
+#[test]
+fn step_explicit_matches_fe() {
+    let (err, peak) = response_error(Method::Explicit, "step", 1);
+    println!("explicit step: error {err:.3e} of peak {peak:.3e} m");
+    assert!(err < 0.01, "explicit step error {err:.3e} of the peak");
+}
+
+/// Implicit at the reference sampling (25 us): pulse and step within 1 % of the peak.
+#[test]
+fn implicit_matches_fe() {
+    for case in ["pulse", "step"] {
+        let (err, peak) = response_error(Method::Implicit, case, 1);
+        println!("implicit {case}, h = 25 us: error {err:.3e} of peak {peak:.3e} m");
+        assert!(err < 0.01, "implicit {case} error {err:.3e} of the peak");
+    }
+}
+
+/// Implicit with 100 us steps (omega_max h = 0.5, 20 steps in the pulse): the pulse
+/// response stays within 3 % of the peak (the 2.6 % measured is the second-order period
+/// error of the 300-800 Hz modes accumulated over 70 ms, about (omega h)^2/12 per
+/// radian), the step response, dominated by the rigid motion, within 1 %.
+#[test]
+fn implicit_large_step_matches_fe() {
+    for (case, tol) in [("pulse", 0.03), ("step", 0.01)] {
+        let (err, peak) = response_error(Method::Implicit, case, 4);
+        println!("implicit {case}, h = 100 us: error {err:.3e} of peak {peak:.3e} m");
+        assert!(err < tol, "implicit {case} error {err:.3e} of the peak");
+    }
+}
+
+/// The truss tower (Irot = 0, local modes from a 3-2-1 support, so not orthogonal to
+/// the rigid modes: strong M_C and K_C coupling): pulse and step at the tip against the
+/// FE reference within 1 % of the peak, both methods.
+#[test]
+fn truss_matches_fe() {
+    for method in [Method::Explicit, Method::Implicit] {
+        for case in ["pulse", "step"] {
+            let (err, peak) = response_error_on("truss", method, case, 1);
+            println!("truss {method:?} {case}: error {err:.3e} of peak {peak:.3e} m");
+            assert!(
+                err < 0.01,
+                "truss {method:?} {case}: error {err:.3e} of the peak"
+            );
+        }
+    }
+}
+
+/// The pulse on the fixtures: the momentum change equals the impulse to 1e-7 relative at
+/// the end of the pulse; afterwards within 1e-7 (freefree) and 1e-5 (truss, whose local
+/// modes come from a 3-2-1 support and are far from orthogonal to the translations).
+///
+/// Not 1e-9 as on a lumped-mass body (free/explicit.rs, exact to round-off): this
+/// file comes from a consistent beam mass, whose uniform translation also loads the end
+/// rotations, so `s^T M_C` is not zero (1.6e-4 here), and the formulation leaves out the
+/// `d(M_C)/dt v_L` term (FORMULATION.md section 3). The momentum `s^T (M_R v_R + M_C v_L)`
+/// then differs from the impulse by `sum s^T dM_C v_L`: measured 6e-9 at the end of the
+/// pulse, oscillating up to 3e-8 afterwards without growth (truss: 4e-8, then 2e-6).
+#[test]
+fn pulse_momentum_equals_impulse_on_fixture() {
+    for (name, tol_after) in [("freefree", 1e-7), ("truss", 1e-5)] {
+        let (at_end, after) = fixture_impulse(name);
+        assert!(
+            at_end < 1e-7,
+            "{name}: momentum change vs impulse: {at_end:.2e}"
+        );
+        assert!(
+            after < tol_after,
+            "{name}: momentum after the pulse: {after:.2e}"
+        );
+    }
+}
+
+fn fixture_impulse(name: &str) -> (f64, f64) {
+    let fx = named(name);
+    let tip = fx.reference.get("tip_node").num() as i64;
+    let scene = fx.scene(&[tip]);
+    let mut s = fxbody::solver::free::Explicit::new(&scene, &Options::default()).unwrap();
+    let f = Vector3::new(0.03, 0.1, -0.05);
+    let mut loads = [0.0; 6];
+    loads[..3].copy_from_slice(f.as_slice());
+    s.set_loads(&loads).unwrap();
+    let h = 2.5e-5;
+    let p_at = |s: &fxbody::solver::free::Explicit| {
+        let f = s.frame().unwrap();
+        momentum(
+            &fx.body,
+            &s.velocity_coordinates(),
+            &Matrix3::from_row_slice(&f.p),
+        )
+    };
+    let p0 = p_at(&s);
+    for _ in 0..80 {
+        s.step(h).unwrap();
+    }
+    let impulse = f * (80.0 * h);
+    let at_end = (p_at(&s) - p0 - impulse).norm() / impulse.norm();
+    let mut err: f64 = 0.0;
+    println!("{name}: impulse error at the end of the pulse {at_end:.2e}");
+    s.set_loads(&[0.0; 6]).unwrap();
+    for _ in 0..2000 {
+        s.step(h).unwrap();
+        err = err.max((p_at(&s) - p0 - impulse).norm() / impulse.norm());
+    }
+    println!("{name}: impulse error, largest over 2000 more steps {err:.2e}");
+    (at_end, err)
+}
+
+/// A long swing of the free-free beam under a constant global force at its tip (it turns
+/// into the force and swings like a pendulum), implicit at 20 x 0.9 dt_fx for 18 s: every
+/// step converges, the frame stays orthonormal to 1e-9, and the work-energy balance
+/// `KE + SE = F . (x_tip - x_tip0)` holds within 1e-5 of the work done (measured 5e-7).
+#[test]
+fn implicit_long_swing_energy_balance() {
+    let fx = named("freefree");
+    let tip = fx.reference.get("tip_node").num() as i64;
+    let scene = fx.scene(&[tip]);
+    let body = &scene.body;
+    let dt_fx = fxbody::body::stable_step(*body.frequencies_hz.last().unwrap(), 0.0);
+    let h = 20.0 * 0.9 * dt_fx;
+    let mut s = build(&scene, Method::Implicit, &Options::default()).unwrap();
+    let f = Vector3::new(0.0, 0.1, 0.0);
+    let mut loads = [0.0; 6];
+    loads[..3].copy_from_slice(f.as_slice());
+    s.set_loads(&loads).unwrap();
+    let x0 = Vector3::from(fx.coords[&tip]);
+    let (mut worst, mut frame, mut wmax) = (0.0f64, 0.0f64, 0.0f64);
+    let mut x = [0.0; 3];
+    for _ in 0..(18.0 / h) as usize {
+        s.step(h).unwrap();
+        s.positions(&mut x);
+        let work = f.dot(&(Vector3::from(x) - x0));
+        wmax = wmax.max(work.abs());
+        worst = worst.max((s.kinetic_energy() + s.strain_energy() - work).abs());
+        let p = Matrix3::from_row_slice(&s.frame().unwrap().p);
+        frame = frame.max((p.transpose() * p - Matrix3::identity()).abs().max());
+    }
+    println!(
+        "long swing: energy balance {:.2e} of the work {wmax:.3e} J, frame {frame:.1e}",
+        worst / wmax
+    );
+    assert!(frame < 1e-9, "frame {frame:.2e}");
+    assert!(
+        worst < 1e-5 * wmax,
+        "energy balance {:.2e} of the work",
+        worst / wmax
+    );
+}

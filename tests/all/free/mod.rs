@@ -1,0 +1,8 @@
+//! The free-body methods (`solver::free`): the explicit reference scheme, the implicit
+//! method, and where we differ from Radioss.
+
+mod explicit;
+mod fe_reference;
+mod implicit;
+mod radioss_differences;
+mod validity;

@@ -1,0 +1,6 @@
+//! The blocked-body methods (exact, implicit, explicit) built by `solver::build`.
+
+mod exact;
+mod fe_reference;
+mod integrators;
+mod outputs;

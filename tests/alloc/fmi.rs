@@ -1,0 +1,101 @@
+//! A communication step through the model behind the FMI layer (setReal, input rates,
+//! doStep, getReal of every Real variable, output derivatives, as the exports run them)
+//! allocates nothing: counted with a global allocator wrapper in this test binary. Every
+//! method on a blocked body (the cantilever) and on a free one (the free-free beam):
+//! a master that logs energies, frame and velocities at every step must not allocate
+//! either.
+
+use std::path::PathBuf;
+
+use fxbody::fmu::model::{Model, Phase};
+use fxbody::fmu::pack::{PackRequest, prepare};
+use fxbody::fmu::vars::{Causality, Kind};
+
+use crate::alloc_counter;
+
+fn run(body: &str, nodes: Option<Vec<i64>>, method: i32, h: f64) {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let p = prepare(&PackRequest {
+        body: root.join(format!("fixtures/{body}.fxb")),
+        coords: Some(root.join(format!("fixtures/{body}.nodes.rad"))),
+        nodes,
+        ..PackRequest::default()
+    })
+    .unwrap();
+    let vr = |n: &str| p.table.vars.iter().find(|v| v.name == n).unwrap().vr;
+    let reals: Vec<u32> = p
+        .table
+        .vars
+        .iter()
+        .filter(|v| !v.is_integer())
+        .map(|v| v.vr)
+        .collect();
+    let positions: Vec<u32> = p
+        .table
+        .vars
+        .iter()
+        .filter(|v| matches!(v.kind, Kind::Position { .. }))
+        .map(|v| v.vr)
+        .collect();
+    assert!(
+        p.table
+            .vars
+            .iter()
+            .any(|v| v.causality == Causality::Output && v.name == "energy.kinetic")
+    );
+    let mut m = Model::new(p.scene.clone(), p.guid.clone());
+    m.set_integer(vr("method"), method, Phase::Configuring)
+        .unwrap();
+    m.setup(0.0, None).unwrap();
+    m.ensure_solver().unwrap();
+    let f = p
+        .table
+        .vars
+        .iter()
+        .find(|v| v.causality == Causality::Input && v.name.ends_with(".fy"))
+        .unwrap()
+        .vr;
+    let mut out = vec![0.0; reals.len()];
+    let mut one = [0.0];
+    // Warm up (the first step sets the transition coefficients or step matrices).
+    m.set_real(f, 1.0, Phase::Running).unwrap();
+    m.do_step(0.0, h).unwrap();
+    let before = alloc_counter::allocations();
+    let mut sum = 0.0;
+    for k in 1..301 {
+        m.set_real(f, (k as f64 * 1e-2).sin(), Phase::Running)
+            .unwrap();
+        m.set_input_rate(f, 1, 0.5).unwrap();
+        m.do_step(k as f64 * h, h).unwrap();
+        m.get_reals(&reals, &mut out).unwrap();
+        m.get_reals(&positions[..1], &mut one).unwrap();
+        sum += m.get_output_derivative(positions[0], 1).unwrap();
+        sum += m.get_output_derivative(positions[0], 2).unwrap();
+    }
+    let after = alloc_counter::allocations();
+    assert!(out.iter().all(|x| x.is_finite()) && sum.is_finite());
+    let ke = out[reals
+        .iter()
+        .position(|&r| r == vr("energy.kinetic"))
+        .unwrap()];
+    assert!(ke > 0.0, "{body} method {method}: the body did not move");
+    assert_eq!(
+        after - before,
+        0,
+        "{body} method {method}: allocations in 300 steps"
+    );
+}
+
+#[test]
+fn a_communication_step_does_not_allocate() {
+    // The counter itself sees allocations.
+    let before = alloc_counter::allocations();
+    drop(std::hint::black_box(Vec::<f64>::with_capacity(8)));
+    assert!(alloc_counter::allocations() > before);
+    for method in [1, 2, 3] {
+        run("cantilever", Some(vec![121, 111]), method, 2e-4);
+    }
+    for method in [1, 2] {
+        run("freefree", None, method, 1e-4);
+    }
+}
