@@ -3,6 +3,7 @@
 //! (`fxbody-study`).
 
 mod demo;
+mod import;
 mod info;
 mod info_modes;
 mod pack;
@@ -24,6 +25,8 @@ enum Command {
     Info(info::InfoArgs),
     /// Pack a .fxb file into an FMI 2.0 co-simulation FMU.
     Pack(pack::PackArgs),
+    /// Build a .fxb body from FE matrices (Nastran DMIG, Abaqus, CalculiX) and coordinates.
+    Import(Box<import::ImportArgs>),
     /// Write a smaller .fxb: only the chosen nodes, only the modes up to fmax.
     Reduce(reduce::ReduceArgs),
     /// The main job: pack the shipped cantilever, run a tip step load through the FMU's C ABI.
@@ -38,6 +41,7 @@ fn main() {
         Command::Info(args) => info::run(args),
         Command::Pack(args) => pack::run(args),
         Command::Reduce(args) => reduce::run(args),
+        Command::Import(args) => import::run(args),
         Command::Demo(args) => demo::run(args),
         Command::Study(args) => fxbody_study::run(args),
     };

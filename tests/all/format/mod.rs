@@ -1,5 +1,7 @@
-//! The `.fxb` text format: reading, the error messages, writing back.
+//! The `.fxb` text format: reading, the error messages, writing back; and the FE matrix and
+//! coordinate readers `fxbody import` uses (`fe`).
 
 mod errors;
+mod fe;
 mod read;
 mod roundtrip;

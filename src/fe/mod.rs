@@ -1,0 +1,149 @@
+//! FE matrix files: readers only, no physics.
+//!
+//! A user who reduced a structure in a finite-element code brings its stiffness and mass
+//! matrices and its node coordinates; `fxbody import` builds a body from them. This
+//! module reads those files into one neutral form, [`SymMatrix`] over [`Dof`]s, and node
+//! coordinates, and says exactly where and why a file cannot be read. It decides nothing
+//! about the physics: whether K and M mention the same DOFs, whether M is positive, and
+//! which nodes need coordinates are the builder's questions.
+//!
+//! Formats:
+//! - Nastran `DMIG` ([`read_dmig`]): as Nastran punches it (small-field header, large-field
+//!   column cards, values touching the field before them), as pyNastran writes it (large
+//!   field throughout), small field, and free field (commas);
+//! - Abaqus `*MATRIX OUTPUT, FORMAT=MATRIX INPUT` lines `node, dof, node, dof, value`
+//!   ([`read_abaqus`]);
+//! - CalculiX matrix storage, `.sti`/`.mas` with `.dof` ([`read_calculix`]);
+//! - coordinates from Nastran `GRID` cards, a Radioss `/NODE` deck, Abaqus `*NODE`, or CSV
+//!   `id,x,y,z` ([`read_coords`]).
+
+mod abaqus;
+mod calculix;
+mod cards;
+mod coords;
+mod dmig;
+mod error;
+mod fields;
+mod terms;
+
+use std::fmt;
+
+pub use abaqus::read_abaqus;
+pub use calculix::read_calculix;
+pub use coords::read_coords;
+pub use dmig::read_dmig;
+pub use error::{Cols, FeError, Loc};
+pub use fields::nastran_real;
+pub use terms::{SYM_NOISE, SYM_REL_TOL};
+
+/// One degree of freedom of an FE model: a GRID/node component 1..6 (1-3 translations,
+/// 4-6 rotations, global frame), or a scalar point (comp 0: e.g. a Craig-Bampton modal
+/// coordinate).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct Dof {
+    /// Grid, node or scalar-point ID.
+    pub id: i64,
+    /// Component: 1..6 for a grid point, 0 for a scalar point.
+    pub comp: u8,
+}
+
+impl Dof {
+    /// Whether this is a scalar point (component 0).
+    pub fn is_scalar(&self) -> bool {
+        self.comp == 0
+    }
+
+    /// The key that orders DOFs as [`SymMatrix::dofs`] holds them: grid DOFs by
+    /// (id, comp), then scalar points by id.
+    pub fn order_key(&self) -> (bool, i64, u8) {
+        (self.is_scalar(), self.id, self.comp)
+    }
+}
+
+/// `id.comp`, the way Nastran, Abaqus and CalculiX users write a DOF (`12.3`; a scalar
+/// point is `900001.0`).
+impl fmt::Display for Dof {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}.{}", self.id, self.comp)
+    }
+}
+
+/// A symmetric matrix as read: the DOFs it mentions and its upper triangle.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SymMatrix {
+    /// DMIG name, or the file stem.
+    pub name: String,
+    /// Every DOF mentioned, sorted: GRID DOFs by (id, comp), then scalar points by id.
+    pub dofs: Vec<Dof>,
+    /// (i, j) indices into dofs with i <= j, each pair once, zeros kept out, sorted by
+    /// (i, j).
+    pub terms: Vec<(usize, usize, f64)>,
+}
+
+impl SymMatrix {
+    /// The full matrix, row-major, `dofs.len()` squared entries: for tests and small
+    /// matrices (a 3000-DOF matrix takes 72 MB).
+    pub fn to_dense(&self) -> Vec<f64> {
+        let n = self.dofs.len();
+        let mut a = vec![0.0; n * n];
+        for &(i, j, v) in &self.terms {
+            a[i * n + j] = v;
+            a[j * n + i] = v;
+        }
+        a
+    }
+
+    /// The value at DOFs `a`, `b` (0 when not stored or when a DOF is not in the matrix).
+    pub fn get(&self, a: Dof, b: Dof) -> f64 {
+        let find = |d: Dof| {
+            self.dofs
+                .binary_search_by_key(&d.order_key(), Dof::order_key)
+                .ok()
+        };
+        let (Some(i), Some(j)) = (find(a), find(b)) else {
+            return 0.0;
+        };
+        let key = (i.min(j), i.max(j));
+        self.terms
+            .binary_search_by_key(&key, |&(i, j, _)| (i, j))
+            .map_or(0.0, |k| self.terms[k].2)
+    }
+}
+
+/// Refuse anything but a regular file before reading it (a device or FIFO would be read
+/// without end), through the check every command's input goes through
+/// ([`crate::fxb::input::regular_size`]); its refusal names the kind of file found.
+fn regular(path: &std::path::Path) -> Result<(), FeError> {
+    let file = path.display().to_string();
+    match crate::fxb::input::regular_size(path) {
+        Ok(_) => Ok(()),
+        Err(e) if e.kind() == std::io::ErrorKind::InvalidInput => {
+            Err(FeError::invalid(&file, 0, e.to_string()))
+        }
+        Err(source) => Err(FeError::Io { file, source }),
+    }
+}
+
+/// Read a whole file (a small one: coordinates), naming it in the error.
+fn read_file(path: &std::path::Path) -> Result<Vec<u8>, FeError> {
+    regular(path)?;
+    std::fs::read(path).map_err(|source| FeError::Io {
+        file: path.display().to_string(),
+        source,
+    })
+}
+
+/// Open a file to stream it, naming it in the error.
+fn open(path: &std::path::Path) -> Result<std::fs::File, FeError> {
+    regular(path)?;
+    std::fs::File::open(path).map_err(|source| FeError::Io {
+        file: path.display().to_string(),
+        source,
+    })
+}
+
+/// The file stem, the name of a matrix that has no name inside its file.
+fn stem(path: &std::path::Path) -> String {
+    path.file_stem()
+        .map_or_else(String::new, |s| s.to_string_lossy().into_owned())
+}

@@ -1,0 +1,184 @@
+//! From the local modes to the file's blocks: m_L, K_L, the mode rows at the FXB nodes,
+//! and for a free body the rigid modes, M_R, M_C,kl and K_C,kl (FORMULATION.md section 1,
+//! with the mass formulas for a reduced mass that couples directions).
+//!
+//! With P0 = I the local frame is the global one. `K_C,kl(i,j) = Phi_L,j^T K (T_kl
+//! Phi_R,i)`; `M_C,kl(i,j) = (T_lk Phi_R,i)^T M Phi_L,j`: the rotation goes on the rigid
+//! mode, so that the engine's `sum P_kl M_C,kl` is the rotated body's coupling for any
+//! mass. Both use the condensed K and the a-set M: for the massless DOFs' rebuilt rows
+//! `E^T K_full = [K~ 0]` and M is zero there, so nothing is lost.
+
+use nalgebra::DMatrix;
+
+use super::Options;
+use super::dofs::Reduced;
+use super::modes::Basis;
+use super::report::Report;
+use super::rigid::{MassProps, mode_value, modes_on};
+use crate::body::eigenfrequencies_hz;
+use crate::fe::Dof;
+use crate::fxb::FxbFile;
+
+/// Mode rows at the nodes in the file's layout: mode-major, then node, then component.
+fn node_rows(model: &Reduced, full: &DMatrix<f64>, node_ids: &[i64]) -> Vec<f64> {
+    let n = node_ids.len();
+    let mut out = vec![0.0; full.ncols() * 6 * n];
+    for (i, d) in model.all.iter().enumerate() {
+        if d.is_scalar() {
+            continue;
+        }
+        let Some(node) = node_ids.iter().position(|&id| id == d.id) else {
+            continue;
+        };
+        for j in 0..full.ncols() {
+            out[j * 6 * n + 6 * node + (d.comp - 1) as usize] = full[(i, j)];
+        }
+    }
+    out
+}
+
+/// Largest `|a_ij| / sqrt(a_ii a_jj)` over `i != j` (both indices in `range`).
+fn offdiag(a: &DMatrix<f64>, range: std::ops::Range<usize>) -> f64 {
+    let mut worst: f64 = 0.0;
+    for i in range.clone() {
+        for j in range.clone() {
+            if i != j {
+                let s = (a[(i, i)] * a[(j, j)]).abs().sqrt();
+                if s > 0.0 {
+                    worst = worst.max(a[(i, j)].abs() / s);
+                }
+            }
+        }
+    }
+    worst
+}
+
+/// The file (see the module text). `props` is given for a free body only.
+pub fn fxb(
+    model: &Reduced,
+    basis: &Basis,
+    props: Option<&MassProps>,
+    node_ids: &[i64],
+    opts: &Options,
+    report: &mut Report,
+) -> FxbFile {
+    let phi = &basis.phi;
+    let nl = phi.ncols();
+    let ns = basis.nbstat;
+    let kphi = &model.k * phi;
+    let mphi = &model.m * phi;
+    let mut k_l = phi.transpose() * &kphi;
+    k_l = (&k_l + k_l.transpose()) * 0.5;
+    let m_ll = phi.transpose() * &mphi;
+    report.offdiag = offdiag(&m_ll, 0..nl).max(offdiag(&k_l, ns..nl));
+    let m_l: Vec<f64> = (0..nl).map(|j| m_ll[(j, j)]).collect();
+    let k_full = (0..ns)
+        .flat_map(|r| (r..nl).map(move |c| (r, c)))
+        .map(|rc| k_l[rc])
+        .collect();
+    let k_diag = (ns..nl).map(|r| k_l[(r, r)]).collect();
+    // With no static mode K_L is diagonal in the file: its frequencies need no solver.
+    let freqs = if ns == 0 {
+        let mut f: Vec<f64> = (0..nl)
+            .map(|j| (k_l[(j, j)] / m_l[j]).max(0.0).sqrt() / (2.0 * std::f64::consts::PI))
+            .collect();
+        f.sort_by(f64::total_cmp);
+        f
+    } else {
+        eigenfrequencies_hz(&k_l, &nalgebra::DVector::from_column_slice(&m_l))
+    };
+    let freq = freqs.last().copied().unwrap_or(0.0);
+    report.frequencies_hz = freqs;
+    report.freq = freq;
+    report.nodes = node_ids.len();
+    report.dofs = model.all.len();
+    report.dofs_with_mass = model.a.len();
+    let irot = model.all.iter().any(|d| d.comp >= 4);
+    report.irot = irot;
+    let local_modes = node_rows(model, &model.expand(phi), node_ids);
+    let mut file = FxbFile {
+        nbmod: nl,
+        nbstat: ns,
+        nbnod: node_ids.len(),
+        irot,
+        idamp: opts.damping.is_some(),
+        iblo: props.is_none(),
+        ifile: false,
+        node_ids: node_ids.to_vec(),
+        p0: [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0],
+        freq,
+        damping: opts.damping,
+        rigid_modes: Vec::new(),
+        local_modes,
+        m_l,
+        k_full,
+        k_diag,
+        m_r: Vec::new(),
+        m_c: Vec::new(),
+        k_c: Vec::new(),
+    };
+    let Some(p) = props else {
+        return file;
+    };
+    let nr = if irot { 15 } else { 12 };
+    let has = |d: Dof| {
+        model
+            .all
+            .binary_search_by_key(&d.order_key(), Dof::order_key)
+            .is_ok()
+    };
+    // Rigid modes at the nodes, global frame.
+    let n = node_ids.len();
+    let mut rigid = vec![0.0; nr * 6 * n];
+    for (node, id) in node_ids.iter().enumerate() {
+        for comp in 1..=6u8 {
+            let present = has(Dof { id: *id, comp });
+            for mode in 0..nr {
+                rigid[mode * 6 * n + 6 * node + (comp - 1) as usize] =
+                    mode_value(p.local[id], comp, mode, comp >= 4 && present);
+            }
+        }
+    }
+    file.rigid_modes = rigid;
+    let dofs = model.a_dofs();
+    let on_a = modes_on(&dofs, &p.local, nr, None, &has);
+    let naive = {
+        let m = on_a.transpose() * &model.m * &on_a;
+        (&m + m.transpose()) * 0.5
+    };
+    let (exact, d) = p.m_r(irot);
+    report.naive_m_r_diff = Some((&naive - &exact).norm() / exact.norm());
+    if report.naive_m_r_diff.is_some_and(|v| v > 0.01) {
+        report.warnings.push(format!(
+            "the naive M_R = Phi_R^T M Phi_R (what OpenRadioss builds from a reduced mass) \
+             differs from the rotation-invariant one by {:.1}%: written is the invariant one",
+            100.0 * report.naive_m_r_diff.unwrap_or(0.0)
+        ));
+    }
+    report.rotary = irot.then_some(d);
+    let m_r = if opts.naive_mass_r { naive } else { exact };
+    file.m_r = (0..nr)
+        .flat_map(|i| (i..nr).map(move |j| (i, j)))
+        .map(|ij| m_r[ij])
+        .collect();
+    let mut m_c = vec![0.0; 9 * nr * nl];
+    let mut k_c = vec![0.0; 9 * nr * nl];
+    for k in 0..3 {
+        for l in 0..3 {
+            let blk = 3 * k + l;
+            let t_lk = modes_on(&dofs, &p.local, nr, Some((l, k)), &has);
+            let t_kl = modes_on(&dofs, &p.local, nr, Some((k, l)), &has);
+            let mc = t_lk.transpose() * &mphi;
+            let kc = t_kl.transpose() * &kphi;
+            for i in 0..nr {
+                for j in 0..nl {
+                    m_c[blk * nr * nl + i * nl + j] = mc[(i, j)];
+                    k_c[blk * nr * nl + i * nl + j] = kc[(i, j)];
+                }
+            }
+        }
+    }
+    file.m_c = m_c;
+    file.k_c = k_c;
+    file
+}

@@ -1,0 +1,186 @@
+//! What `import` built, dropped and checked: as text for the terminal and as JSON for
+//! `--report`. The mass, centre of mass and inertia are printed always, so a user can
+//! compare them with the FE code's own mass printout (Nastran's GPWG, for example): a
+//! unit or WTMASS slip shows there first.
+
+use std::fmt::Write;
+
+use serde_json::{Value, json};
+
+use super::rigid::MassProps;
+
+/// The import's findings; filled in as the pipeline runs.
+#[derive(Debug, Clone, Default)]
+pub struct Report {
+    /// Free body (rigid modes written) or blocked.
+    pub free: bool,
+    /// DOFs (grid and scalar points) after dead-DOF removal.
+    pub dofs: usize,
+    /// DOFs with mass (the eigenproblem's size).
+    pub dofs_with_mass: usize,
+    /// Dead DOFs dropped (no stiffness, no mass), as `id.comp`.
+    pub dead: Vec<String>,
+    /// Massless DOFs condensed out, as `id.comp`.
+    pub condensed: Vec<String>,
+    /// Non-fatal findings.
+    pub warnings: Vec<String>,
+    /// `|K r| / (|K| |r|)` of the six rigid motions (when coordinates are known).
+    pub rigid_residuals: Vec<f64>,
+    /// Eigenmodes kept.
+    pub kept_modes: usize,
+    /// Static modes added for the cut.
+    pub static_modes: usize,
+    /// Frequencies of the eigenmodes dropped by `--fmax`.
+    pub dropped_hz: Vec<f64>,
+    /// Eigenfrequencies of the written (K_L, m_L), ascending.
+    pub frequencies_hz: Vec<f64>,
+    /// Freq written (the largest of `frequencies_hz`).
+    pub freq: f64,
+    /// Total mass, centre of mass, inertia about it (when coordinates are known).
+    pub mass: Option<(f64, [f64; 3], [[f64; 3]; 3])>,
+    /// Mean rotary inertia d given to rigid modes 13..15.
+    pub rotary: Option<f64>,
+    /// `|M_R,naive - M_R| / |M_R|` (Frobenius): how far OpenRadioss's `Phi_R^T M Phi_R`
+    /// would be from the rotation-invariant M_R.
+    pub naive_m_r_diff: Option<f64>,
+    /// Largest off-diagonal of `Phi_L^T M Phi_L` and of the dynamic block of
+    /// `Phi_L^T K Phi_L` relative to their diagonals (round-off, dropped from the file).
+    pub offdiag: f64,
+    /// Nodes written.
+    pub nodes: usize,
+    /// Irot flag.
+    pub irot: bool,
+}
+
+impl Report {
+    /// Record the mass properties.
+    pub fn mass_properties(&mut self, p: &MassProps) {
+        let i = p.inertia;
+        self.mass = Some((
+            p.mass,
+            p.com,
+            [
+                [i[(0, 0)], i[(0, 1)], i[(0, 2)]],
+                [i[(1, 0)], i[(1, 1)], i[(1, 2)]],
+                [i[(2, 0)], i[(2, 1)], i[(2, 2)]],
+            ],
+        ));
+    }
+
+    /// The stable step of the explicit reference scheme, `1 / (pi Freq)`.
+    pub fn dt_fx(&self) -> f64 {
+        1.0 / (std::f64::consts::PI * self.freq)
+    }
+
+    /// Human-readable summary.
+    pub fn text(&self) -> String {
+        let mut o = String::new();
+        let _ = writeln!(
+            o,
+            "body: {}, {} nodes, Irot {}, {} DOFs ({} with mass)",
+            if self.free { "free" } else { "blocked" },
+            self.nodes,
+            u8::from(self.irot),
+            self.dofs,
+            self.dofs_with_mass
+        );
+        if let Some((m, c, i)) = &self.mass {
+            let _ = writeln!(o, "mass: {m:.9e}");
+            let _ = writeln!(o, "centre of mass: {:.9e} {:.9e} {:.9e}", c[0], c[1], c[2]);
+            let _ = writeln!(o, "inertia about the centre of mass:");
+            for row in i {
+                let _ = writeln!(o, "  {:.9e} {:.9e} {:.9e}", row[0], row[1], row[2]);
+            }
+        }
+        let _ = writeln!(
+            o,
+            "local modes: {} ({} static, {} eigenmodes){}",
+            self.static_modes + self.kept_modes,
+            self.static_modes,
+            self.kept_modes,
+            if self.dropped_hz.is_empty() {
+                String::new()
+            } else {
+                format!(
+                    "; {} eigenmodes dropped ({:.6e} to {:.6e} Hz)",
+                    self.dropped_hz.len(),
+                    self.dropped_hz[0],
+                    self.dropped_hz[self.dropped_hz.len() - 1]
+                )
+            }
+        );
+        let shown: Vec<String> = self
+            .frequencies_hz
+            .iter()
+            .take(10)
+            .map(|f| format!("{f:.6e}"))
+            .collect();
+        let _ = writeln!(
+            o,
+            "frequencies (Hz): {}{}",
+            shown.join(" "),
+            if self.frequencies_hz.len() > 10 {
+                " ..."
+            } else {
+                ""
+            }
+        );
+        let _ = writeln!(
+            o,
+            "Freq {:.9e} Hz, explicit step dt_fx = 1/(pi Freq) = {:.3e}",
+            self.freq,
+            self.dt_fx()
+        );
+        if !self.dead.is_empty() {
+            let _ = writeln!(o, "dropped dead DOFs: {}", self.dead.join(" "));
+        }
+        if !self.condensed.is_empty() {
+            let _ = writeln!(
+                o,
+                "condensed massless DOFs ({}): {}",
+                self.condensed.len(),
+                self.condensed.join(" ")
+            );
+        }
+        if let Some(d) = self.naive_m_r_diff {
+            let _ = writeln!(
+                o,
+                "M_R from the exact mass properties; the naive Phi_R^T M Phi_R differs by {d:.3e}"
+            );
+        }
+        for w in &self.warnings {
+            let _ = writeln!(o, "warning: {w}");
+        }
+        o
+    }
+
+    /// The JSON report.
+    pub fn json(&self) -> Value {
+        let mass = self
+            .mass
+            .as_ref()
+            .map(|(m, c, i)| json!({"total_mass": m, "center_of_mass": c, "inertia": i}));
+        json!({
+            "free": self.free,
+            "irot": self.irot,
+            "nodes": self.nodes,
+            "dofs": self.dofs,
+            "dofs_with_mass": self.dofs_with_mass,
+            "mass": mass,
+            "rotary_inertia_modes_13_15": self.rotary,
+            "local_modes": self.static_modes + self.kept_modes,
+            "static_modes": self.static_modes,
+            "eigenmodes": self.kept_modes,
+            "dropped_hz": self.dropped_hz,
+            "frequencies_hz": self.frequencies_hz,
+            "freq_hz": self.freq,
+            "dt_fx": self.dt_fx(),
+            "dead_dofs": self.dead,
+            "condensed_dofs": self.condensed,
+            "rigid_residuals": self.rigid_residuals,
+            "naive_m_r_rel_diff": self.naive_m_r_diff,
+            "offdiag_dropped": self.offdiag,
+            "warnings": self.warnings,
+        })
+    }
+}
