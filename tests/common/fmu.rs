@@ -126,29 +126,28 @@ pub struct Msg {
 /// Where the logger writes: one per instance, its address is the environment pointer.
 pub type LogSink = Mutex<Vec<Msg>>;
 
-/// The recording logger. Stable Rust cannot define a C-variadic function; the library
-/// always calls the logger with six arguments (format "%s" and one `char*`), which the
-/// System V x86-64 and AArch64 ABIs pass in the same registers as this six-parameter
-/// function (the same reasoning as `fxbody_host`). The format is recorded, so a
-/// test can check it is "%s" whatever the text holds.
+/// The recording sink behind the host's C logger ([`fxbody_host::c_logger`], a real
+/// C-variadic function that formats the message): it records the instance name, status,
+/// category, the format as the library passed it (so a test can check it is "%s"
+/// whatever the text holds) and the formatted text.
 extern "C" fn record(
-    env: *mut c_void,
+    data: *mut c_void,
     name: fmi2String,
     status: fmi2Status,
     category: fmi2String,
     format: fmi2String,
     text: *const c_char,
 ) {
-    if env.is_null() {
+    if data.is_null() {
         return;
     }
-    // SAFETY: `env` is the LogSink of the instance being called (set by `Slave::new`).
-    let sink = unsafe { &*env.cast::<LogSink>() };
+    // SAFETY: `data` is the LogSink of the instance being called (set by `log_env`).
+    let sink = unsafe { &*data.cast::<LogSink>() };
     let s = |p: *const c_char| {
         if p.is_null() {
             String::from("<NULL>")
         } else {
-            // SAFETY: non-null pointers the library passes are NUL-terminated strings.
+            // SAFETY: non-null pointers the logger passes are NUL-terminated strings.
             unsafe { CStr::from_ptr(p) }.to_string_lossy().into_owned()
         }
     };
@@ -164,24 +163,17 @@ extern "C" fn record(
     }
 }
 
-/// The recording logger as the variadic callback type.
+/// The logger callback to pass with [`log_env`]: the host's C-variadic logger.
 pub fn logger() -> fmi2CallbackLogger {
-    type Six =
-        extern "C" fn(*mut c_void, fmi2String, fmi2Status, fmi2String, fmi2String, *const c_char);
-    // SAFETY: see `record`: on the Linux x86-64 and AArch64 ABIs the library's variadic
-    // call passes exactly the six arguments `record` reads, in the same registers.
-    Some(unsafe {
-        std::mem::transmute::<
-            Six,
-            unsafe extern "C" fn(
-                fmi2ComponentEnvironment,
-                fmi2String,
-                fmi2Status,
-                fmi2String,
-                fmi2String,
-                ...
-            ),
-        >(record as Six)
+    fxbody_host::c_logger()
+}
+
+/// The component environment that makes [`logger`] record into `sink`; keep the box
+/// alive (and the sink) as long as the instance.
+pub fn log_env(sink: &LogSink) -> Box<fxbody_host::LogEnv> {
+    Box::new(fxbody_host::LogEnv {
+        sink: record,
+        data: (sink as *const LogSink).cast_mut().cast(),
     })
 }
 
@@ -190,6 +182,8 @@ pub fn logger() -> fmi2CallbackLogger {
 pub struct Slave {
     pub c: fmi2Component,
     pub log: Box<LogSink>,
+    /// The logger's environment, at a fixed address for the instance's life.
+    _env: Box<fxbody_host::LogEnv>,
 }
 
 impl Slave {
@@ -201,12 +195,13 @@ impl Slave {
     /// Instantiate with an explicit GUID and resource URI.
     pub fn try_with(guid: &str, uri: &str, name: &str) -> Result<Slave, Vec<Msg>> {
         let log: Box<LogSink> = Box::new(Mutex::new(Vec::new()));
+        let env = log_env(&log);
         let functions = fmi2CallbackFunctions {
             logger: logger(),
             allocateMemory: None,
             freeMemory: None,
             stepFinished: None,
-            componentEnvironment: (&*log as *const LogSink).cast_mut().cast(),
+            componentEnvironment: (&*env as *const fxbody_host::LogEnv).cast_mut().cast(),
         };
         let (n, g, r) = (
             CString::new(name).unwrap(),
@@ -229,7 +224,7 @@ impl Slave {
         if c.is_null() {
             return Err(log.lock().unwrap().clone());
         }
-        Ok(Slave { c, log })
+        Ok(Slave { c, log, _env: env })
     }
 
     pub fn new(fx: &Packed, name: &str) -> Slave {

@@ -174,7 +174,10 @@ impl FmuLibrary {
         debug: bool,
     ) -> Result<Instance<'_>, String> {
         let log = Box::new(Mutex::new(Vec::new()));
-        let env = Box::new(LogEnv { sink, log: &*log });
+        let env = Box::new(LogEnv {
+            sink,
+            data: (&*log as *const Mutex<Vec<String>>).cast_mut().cast(),
+        });
         let functions = fmi2CallbackFunctions {
             logger: Some(fxbody_host_logger),
             allocateMemory: std::ptr::null(),
@@ -231,19 +234,37 @@ unsafe extern "C" {
     );
 }
 
-/// What the host passes as the component environment: the layout `logger.c` reads
-/// (`fxbody_host_env`), a fixed-arity sink and the instance's log.
+/// A fixed-arity receiver of log messages: `(data, instance name, status, category, the
+/// format as the FMU passed it, the formatted text)`. The C shim `logger.c` calls it.
+pub type LogSinkFn =
+    extern "C" fn(*mut c_void, fmi2String, fmi2Status, fmi2String, fmi2String, *const c_char);
+
+/// What a master passes as the component environment when its logger is [`c_logger`]:
+/// the layout `logger.c` reads (`fxbody_host_env`), a fixed-arity sink and its data. It
+/// must stay at a fixed address while the instance lives (box it).
 #[repr(C)]
-struct LogEnv {
-    sink: extern "C" fn(*mut c_void, fmi2Status, *const c_char, *const c_char),
-    log: *const Mutex<Vec<String>>,
+pub struct LogEnv {
+    /// Called once per message with the formatted text.
+    pub sink: LogSinkFn,
+    /// Passed to `sink` as its first argument.
+    pub data: *mut c_void,
+}
+
+/// The FMI 2.0 logger callback, C-variadic as the standard declares it, implemented in C
+/// (`logger.c`): it formats the message with `vsnprintf` and hands the text to the
+/// [`LogEnv`] given as component environment. Sound on every platform with a C compiler,
+/// unlike a fixed-arity Rust function transmuted to the variadic type.
+pub fn c_logger() -> fmi2CallbackLogger {
+    Some(fxbody_host_logger)
 }
 
 /// Stores `"[category] text"` in the log `data` points to.
 extern "C" fn sink(
     data: *mut c_void,
+    _name: fmi2String,
     _status: fmi2Status,
     category: *const c_char,
+    _format: fmi2String,
     text: *const c_char,
 ) {
     if data.is_null() {
@@ -541,8 +562,11 @@ mod tests {
 
     #[test]
     fn the_c_logger_formats_printf_style_and_hands_the_text_to_the_log() {
-        let log = Mutex::new(Vec::new());
-        let env = LogEnv { sink, log: &log };
+        let log: Mutex<Vec<String>> = Mutex::new(Vec::new());
+        let env = LogEnv {
+            sink,
+            data: (&log as *const Mutex<Vec<String>>).cast_mut().cast(),
+        };
         let env_ptr = (&env as *const LogEnv).cast_mut().cast();
         // SAFETY: a valid environment for the call and NUL-terminated strings; the
         // variadic arguments match the format (%s: char*, %d: int, %.3f: double).

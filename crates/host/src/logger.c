@@ -8,21 +8,23 @@
 #include <stdlib.h>
 
 /* The environment the host passes as componentEnvironment (crates/host/src/lib.rs,
- * `LogEnv`, same layout): a fixed-arity Rust function and its data. */
+ * `LogEnv`, same layout): a fixed-arity Rust function and its data. The sink gets the
+ * instance name, status, category, the format as the FMU passed it (so a test can check
+ * it) and the formatted text. */
 typedef struct {
-    void (*sink)(void *data, int status, const char *category, const char *text);
+    void (*sink)(void *data, const char *name, int status, const char *category,
+                 const char *fmt, const char *text);
     void *data;
 } fxbody_host_env;
 
 void fxbody_host_logger(void *env, const char *name, int status, const char *category,
                         const char *fmt, ...) {
-    (void)name;
     fxbody_host_env *e = (fxbody_host_env *)env;
     if (e == NULL || e->sink == NULL) {
         return;
     }
     if (fmt == NULL) {
-        e->sink(e->data, status, category, "");
+        e->sink(e->data, name, status, category, fmt, "");
         return;
     }
     va_list args;
@@ -33,17 +35,17 @@ void fxbody_host_logger(void *env, const char *name, int status, const char *cat
     va_end(measure);
     if (n < 0) {
         va_end(args);
-        e->sink(e->data, status, category, "(logger: message could not be formatted)");
+        e->sink(e->data, name, status, category, fmt, "(logger: message could not be formatted)");
         return;
     }
     char *text = (char *)malloc((size_t)n + 1);
     if (text == NULL) {
         va_end(args);
-        e->sink(e->data, status, category, "(logger: out of memory)");
+        e->sink(e->data, name, status, category, fmt, "(logger: out of memory)");
         return;
     }
     vsnprintf(text, (size_t)n + 1, fmt, args);
     va_end(args);
-    e->sink(e->data, status, category, text);
+    e->sink(e->data, name, status, category, fmt, text);
     free(text);
 }

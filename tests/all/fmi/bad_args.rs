@@ -15,10 +15,7 @@
 // The tables of bad-argument cases hold dozens of one-line unsafe closures under one
 // `// SAFETY (all closures):` comment each, which clippy cannot attribute to them.
 #![allow(clippy::undocumented_unsafe_blocks)]
-#![cfg(all(
-    target_os = "linux",
-    any(target_arch = "x86_64", target_arch = "aarch64")
-))]
+#![cfg(target_os = "linux")]
 
 use std::collections::BTreeMap;
 use std::ffi::{CString, c_char};

@@ -20,10 +20,7 @@
 // The table of calls holds one unsafe closure per FMI function under one
 // `// SAFETY (every closure below):` comment, which clippy cannot attribute to them.
 #![allow(clippy::undocumented_unsafe_blocks)]
-#![cfg(all(
-    target_os = "linux",
-    any(target_arch = "x86_64", target_arch = "aarch64")
-))]
+#![cfg(target_os = "linux")]
 
 use std::collections::BTreeMap;
 use std::ptr::{null, null_mut};

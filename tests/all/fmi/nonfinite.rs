@@ -15,10 +15,7 @@
 // Raw FFI: this test calls the exported fmi2* functions directly, as a C master does,
 // which is `unsafe`; the workspace denies `unsafe_code` outside the FMI boundary.
 #![allow(unsafe_code)]
-#![cfg(all(
-    target_os = "linux",
-    any(target_arch = "x86_64", target_arch = "aarch64")
-))]
+#![cfg(target_os = "linux")]
 
 use crate::common::fmu::{AFTER, BEFORE, H, Packed, Slave, load, packed, run, same_bits};
 use fxbody::fmi::exports as x;

@@ -10,10 +10,7 @@
 // Raw FFI: this test calls the exported fmi2* functions directly, as a C master does,
 // which is `unsafe`; the workspace denies `unsafe_code` outside the FMI boundary.
 #![allow(unsafe_code)]
-#![cfg(all(
-    target_os = "linux",
-    any(target_arch = "x86_64", target_arch = "aarch64")
-))]
+#![cfg(target_os = "linux")]
 
 use std::collections::BTreeMap;
 use std::ffi::CString;
@@ -237,14 +234,13 @@ fn instantiate_refuses_bad_arguments() {
     let fx = packed("inst");
     let twin = reference(&fx);
     let sink: crate::common::fmu::LogSink = std::sync::Mutex::new(Vec::new());
+    let env = crate::common::fmu::log_env(&sink);
     let cb = fmi2CallbackFunctions {
         logger: crate::common::fmu::logger(),
         allocateMemory: None,
         freeMemory: None,
         stepFinished: None,
-        componentEnvironment: (&sink as *const crate::common::fmu::LogSink)
-            .cast_mut()
-            .cast(),
+        componentEnvironment: (&*env as *const fxbody_host::LogEnv).cast_mut().cast(),
     };
     let guid = CString::new(fx.p.guid.as_str()).unwrap();
     let uri = CString::new(fx.uri.as_str()).unwrap();
