@@ -7,9 +7,9 @@
 //! ([`exports`], [`values`], [`fmu_state`]), which are the C ABI itself, callable from
 //! Rust with the same contracts as from C (include/fxbody.h). The exports are in the
 //! cdylib's symbol table whatever the visibility (`#[unsafe(no_mangle)]`).
-//! [`state`] and [`instance`] are internals, public only so that the robustness tests
-//! (tests/robust_*.rs) can check the state machine and the instance behind a handle; they
-//! are hidden from the documentation and carry no stability promise.
+//! `state` and `instance` are internals: private to the crate, and opened only by the
+//! `test-internals` feature, which the integration tests (tests/all/fmi) turn on to check
+//! the state machine and the instance behind a handle.
 
 // The C ABI: raw pointers from the importer, `extern "C"` exports, the panic barrier.
 // Every block says why it holds (clippy::undocumented_unsafe_blocks).
@@ -18,10 +18,16 @@
 mod error;
 pub mod exports;
 pub mod fmu_state;
+#[cfg(feature = "test-internals")]
 #[doc(hidden)]
 pub mod instance;
+#[cfg(not(feature = "test-internals"))]
+mod instance;
+#[cfg(feature = "test-internals")]
 #[doc(hidden)]
 pub mod state;
+#[cfg(not(feature = "test-internals"))]
+mod state;
 pub mod types;
 mod uri;
 pub mod values;
