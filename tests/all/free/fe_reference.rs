@@ -12,152 +12,18 @@ use fxbody::scene::Scene;
 use fxbody::solver::{Method, Options, Solver, build};
 use nalgebra::{DVector, Matrix3, Vector3};
 
-/// A minimal reader for the reference JSON (numbers, strings, arrays, objects) so the
-/// test needs no JSON dependency.
-mod json {
-    #[derive(Debug, Clone)]
-    pub enum V {
-        Num(f64),
-        Str(String),
-        Arr(Vec<V>),
-        Obj(Vec<(String, V)>),
-        Null,
-        Bool,
-    }
-    impl V {
-        pub fn get(&self, k: &str) -> &V {
-            match self {
-                V::Obj(m) => {
-                    &m.iter()
-                        .find(|(n, _)| n == k)
-                        .unwrap_or_else(|| panic!("no key {k}"))
-                        .1
-                }
-                _ => panic!("not an object"),
-            }
-        }
-        pub fn num(&self) -> f64 {
-            match self {
-                V::Num(x) => *x,
-                _ => panic!("not a number"),
-            }
-        }
-        pub fn arr(&self) -> &[V] {
-            match self {
-                V::Arr(a) => a,
-                _ => panic!("not an array"),
-            }
-        }
-        pub fn nums(&self) -> Vec<f64> {
-            self.arr().iter().map(V::num).collect()
-        }
-        pub fn str(&self) -> &str {
-            match self {
-                V::Str(s) => s,
-                _ => panic!("not a string"),
-            }
-        }
-    }
-    pub fn parse(s: &str) -> V {
-        let b = s.as_bytes();
-        let mut i = 0;
-        value(b, &mut i)
-    }
-    fn ws(b: &[u8], i: &mut usize) {
-        while *i < b.len() && b[*i].is_ascii_whitespace() {
-            *i += 1;
-        }
-    }
-    fn value(b: &[u8], i: &mut usize) -> V {
-        ws(b, i);
-        match b[*i] {
-            b'{' => {
-                *i += 1;
-                let mut m = Vec::new();
-                loop {
-                    ws(b, i);
-                    if b[*i] == b'}' {
-                        *i += 1;
-                        break;
-                    }
-                    let k = match value(b, i) {
-                        V::Str(s) => s,
-                        _ => panic!("key"),
-                    };
-                    ws(b, i);
-                    *i += 1; // ':'
-                    let v = value(b, i);
-                    m.push((k, v));
-                    ws(b, i);
-                    if b[*i] == b',' {
-                        *i += 1;
-                    }
-                }
-                V::Obj(m)
-            }
-            b'[' => {
-                *i += 1;
-                let mut a = Vec::new();
-                loop {
-                    ws(b, i);
-                    if b[*i] == b']' {
-                        *i += 1;
-                        break;
-                    }
-                    a.push(value(b, i));
-                    ws(b, i);
-                    if b[*i] == b',' {
-                        *i += 1;
-                    }
-                }
-                V::Arr(a)
-            }
-            b'"' => {
-                *i += 1;
-                let mut s = String::new();
-                while b[*i] != b'"' {
-                    if b[*i] == b'\\' {
-                        *i += 1;
-                    }
-                    s.push(b[*i] as char);
-                    *i += 1;
-                }
-                *i += 1;
-                V::Str(s)
-            }
-            b'n' => {
-                *i += 4;
-                V::Null
-            }
-            b't' => {
-                *i += 4;
-                V::Bool
-            }
-            b'f' => {
-                *i += 5;
-                V::Bool
-            }
-            _ => {
-                let st = *i;
-                while *i < b.len()
-                    && (b[*i] == b'-'
-                        || b[*i] == b'+'
-                        || b[*i] == b'.'
-                        || b[*i] == b'e'
-                        || b[*i] == b'E'
-                        || b[*i].is_ascii_digit())
-                {
-                    *i += 1;
-                }
-                V::Num(std::str::from_utf8(&b[st..*i]).unwrap().parse().unwrap())
-            }
-        }
-    }
+/// Numbers of a JSON array (the reference's time series).
+fn nums(v: &serde_json::Value) -> Vec<f64> {
+    v.as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect()
 }
 
 struct Fixture {
     body: Arc<Body>,
-    reference: json::V,
+    reference: serde_json::Value,
     coords: std::collections::HashMap<i64, [f64; 3]>,
 }
 
@@ -167,7 +33,7 @@ fn named(name: &str) -> Fixture {
     let coords = to_map(&read_coords(&fixture(&format!("{name}.nodes.rad"))).unwrap());
     Fixture {
         body,
-        reference: json::parse(&text),
+        reference: serde_json::from_str(&text).unwrap(),
         coords,
     }
 }
@@ -206,27 +72,25 @@ fn response_error(method: Method, case: &str, stride: usize) -> (f64, f64) {
 
 fn response_error_on(name: &str, method: Method, case: &str, stride: usize) -> (f64, f64) {
     let fx = named(name);
-    let r = fx
-        .reference
-        .get("responses")
-        .arr()
+    let r = fx.reference["responses"]
+        .as_array()
+        .unwrap()
         .iter()
-        .find(|r| r.get("name").str() == case)
+        .find(|r| r["name"] == case)
         .unwrap()
         .clone();
-    let tip = fx.reference.get("tip_node").num() as i64;
-    let ids: Vec<i64> = match r.get("nodes") {
-        json::V::Obj(m) => m.iter().map(|(k, _)| k.parse().unwrap()).collect(),
-        _ => unreachable!(),
-    };
-    assert_eq!(r.get("load_dof").str(), "fy");
-    assert_eq!(r.get("load_node").num() as i64, tip);
-    let amp = r.get("amplitude").num();
-    let duration = match r.get("duration") {
-        json::V::Num(d) => *d,
-        _ => f64::INFINITY,
-    };
-    let t = r.get("t").nums();
+    let tip = fx.reference["tip_node"].as_f64().unwrap() as i64;
+    let ids: Vec<i64> = r["nodes"]
+        .as_object()
+        .unwrap()
+        .keys()
+        .map(|k| k.parse().unwrap())
+        .collect();
+    assert_eq!(r["load_dof"], "fy");
+    assert_eq!(r["load_node"].as_f64().unwrap() as i64, tip);
+    let amp = r["amplitude"].as_f64().unwrap();
+    let duration = r["duration"].as_f64().unwrap_or(f64::INFINITY);
+    let t = nums(&r["t"]);
     let scene = fx.scene(&ids);
     let tip_k = ids.iter().position(|&i| i == tip).unwrap();
     let mut s = build(&scene, method, &Options::default()).unwrap();
@@ -236,8 +100,8 @@ fn response_error_on(name: &str, method: Method, case: &str, stride: usize) -> (
     let refs: Vec<[Vec<f64>; 3]> = ids
         .iter()
         .map(|id| {
-            let n = r.get("nodes").get(&id.to_string());
-            [n.get("ux").nums(), n.get("uy").nums(), n.get("uz").nums()]
+            let n = &r["nodes"][id.to_string()];
+            [nums(&n["ux"]), nums(&n["uy"]), nums(&n["uz"])]
         })
         .collect();
     let peak = refs
@@ -348,7 +212,7 @@ fn pulse_momentum_equals_impulse_on_fixture() {
 
 fn fixture_impulse(name: &str) -> (f64, f64) {
     let fx = named(name);
-    let tip = fx.reference.get("tip_node").num() as i64;
+    let tip = fx.reference["tip_node"].as_f64().unwrap() as i64;
     let scene = fx.scene(&[tip]);
     let mut s = fxbody::solver::free::Explicit::new(&scene, &Options::default()).unwrap();
     let f = Vector3::new(0.03, 0.1, -0.05);
@@ -388,7 +252,7 @@ fn fixture_impulse(name: &str) -> (f64, f64) {
 #[test]
 fn implicit_long_swing_energy_balance() {
     let fx = named("freefree");
-    let tip = fx.reference.get("tip_node").num() as i64;
+    let tip = fx.reference["tip_node"].as_f64().unwrap() as i64;
     let scene = fx.scene(&[tip]);
     let body = &scene.body;
     let dt_fx = fxbody::body::stable_step(*body.frequencies_hz.last().unwrap(), 0.0);
