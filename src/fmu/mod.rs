@@ -10,6 +10,7 @@ pub mod options;
 pub mod pack;
 pub mod scene_io;
 pub mod snapshot;
+mod time;
 pub mod vars;
 pub mod xml;
 pub mod zip;

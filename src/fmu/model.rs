@@ -9,6 +9,7 @@ use super::guard::{StepGuard, largest_input};
 pub use super::model_error::{ModelError, StepRefused, TimeError};
 use super::scene_io::{ResourceError, Resources, load_resources};
 use super::snapshot::Snapshot;
+pub use super::time::{check_step_times, time_tolerance};
 use super::vars::{Causality, Kind, VarTable, method_from_value, method_name};
 use crate::scene::Scene;
 use crate::solver::{self, Method, Options, Solver, SolverError};
@@ -49,64 +50,6 @@ pub struct Model {
     start_time: f64,
     stop_time: Option<f64>,
     time: f64,
-}
-
-/// Floating-point spacings (ulps) allowed between a master's time and the FMU's, at the
-/// largest magnitude involved (the two times and the start time): a master that computes
-/// `start + n h` (fmpy does) or converts integer ticks differs from the FMU's `t + h` by
-/// one or two roundings at that magnitude per step (the FMU adopts the master's time every
-/// step, so the difference never accumulates); 16 leaves room for masters that round a
-/// few times more.
-const TIME_ULPS: f64 = 16.0;
-/// The part of the step size allowed as well: near t = 0 the ulps vanish, and a master that
-/// derives h from printed or differenced times is off by about 1e-15 h; 1e-9 h covers it
-/// a millionfold and moves the step's end by far less than any method's truncation error.
-const TIME_STEP_FRACTION: f64 = 1e-9;
-
-/// How far two times `a` and `b` may be apart and still name the same instant, for a step
-/// of size `h` in a run that started at `start`: [`TIME_ULPS`] spacings at the largest
-/// magnitude plus [`TIME_STEP_FRACTION`] of `h`. NaN or infinite inputs give NaN or
-/// infinity: callers check finiteness first.
-pub fn time_tolerance(a: f64, b: f64, start: f64, h: f64) -> f64 {
-    let big = a.abs().max(b.abs()).max(start.abs());
-    // The spacing of f64 values at `big`: 2^(exponent - 52), at least the smallest
-    // subnormal.
-    let ulp = if big == 0.0 {
-        f64::from_bits(1)
-    } else if big == f64::MAX {
-        big - f64::from_bits(big.to_bits() - 1)
-    } else {
-        f64::from_bits(big.to_bits() + 1) - big
-    };
-    TIME_ULPS * ulp + TIME_STEP_FRACTION * h
-}
-
-/// The checks fmi2DoStep makes on its time arguments before anything changes: `h`
-/// finite and positive, `t` the FMU's current `time` (within [`time_tolerance`] for a run
-/// that started at `start`), and `t + h` not past `stop` (within the same tolerance,
-/// whatever the sign of the times).
-pub fn check_step_times(
-    t: f64,
-    h: f64,
-    time: f64,
-    start: f64,
-    stop: Option<f64>,
-) -> Result<(), TimeError> {
-    if !(h.is_finite() && h > 0.0) {
-        return Err(TimeError::StepSize(h));
-    }
-    // A NaN time compares false, so it is not close and is refused.
-    let tol = time_tolerance(t, time, start, h);
-    if !(t.is_finite() && (t - time).abs() <= tol) {
-        return Err(TimeError::NotCurrent { t, time, tol });
-    }
-    let end = t + h;
-    if let Some(stop) = stop
-        && !(end.is_finite() && (end <= stop || end - stop <= time_tolerance(end, stop, start, h)))
-    {
-        return Err(TimeError::PastStop { end, stop });
-    }
-    Ok(())
 }
 
 impl Model {

@@ -7,7 +7,7 @@ use super::snapshot::SnapshotError;
 use crate::num::num;
 use crate::solver::SolverError;
 
-/// A time argument refused by fmi2SetupExperiment or fmi2DoStep ([`super::model::check_step_times`]).
+/// A time argument refused by fmi2SetupExperiment or fmi2DoStep ([`super::time::check_step_times`]).
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum TimeError {
     /// startTime NaN or infinite.
@@ -34,7 +34,7 @@ pub enum TimeError {
         t: f64,
         /// The FMU's time.
         time: f64,
-        /// The tolerance allowed ([`super::model::time_tolerance`]).
+        /// The tolerance allowed ([`super::time::time_tolerance`]).
         tol: f64,
     },
     /// The step would end after stopTime.
