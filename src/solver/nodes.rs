@@ -5,7 +5,7 @@
 
 use std::cell::{Cell, OnceCell};
 
-use nalgebra::{DMatrix, DVector, SymmetricEigen};
+use nalgebra::{DMatrix, DVector};
 
 use super::dense::{dot, gemv_acc};
 
@@ -321,25 +321,12 @@ impl std::fmt::Debug for LocalCoords {
     }
 }
 
-/// Mass-normalised modes of a blocked body: `S = m^-1/2 V` with
+/// Mass-normalised modes of a blocked body ([`crate::body::Modal`]): `S = m^-1/2 V` with
 /// `m^-1/2 K_L m^-1/2 = V diag(w^2) V^T`, and the circular frequencies `w`. In the
 /// coordinates `q = S y` the mass is the identity, the stiffness `diag(w^2)` and Rayleigh
 /// damping `diag(alpha + beta w^2)`: every mode is independent.
 pub fn modal_basis(body: &crate::body::Body) -> (DMatrix<f64>, Vec<f64>) {
-    let nl = body.nl();
-    let inv_sqrt = body.m_l.map(|m| 1.0 / m.sqrt());
-    let scaled = DMatrix::from_fn(nl, nl, |i, j| body.k_l[(i, j)] * inv_sqrt[i] * inv_sqrt[j]);
-    // nalgebra refuses an empty matrix: a body without local modes has nothing to
-    // diagonalise.
-    let (values, vectors) = if nl == 0 {
-        (DVector::zeros(0), DMatrix::zeros(0, 0))
-    } else {
-        let eig = SymmetricEigen::new(scaled);
-        (eig.eigenvalues, eig.eigenvectors)
-    };
-    let basis = DMatrix::from_fn(nl, nl, |i, j| inv_sqrt[i] * vectors[(i, j)]);
-    let omega = values.iter().map(|&l| l.max(0.0).sqrt()).collect();
-    (basis, omega)
+    (body.modal.shapes.clone(), body.modal.omega())
 }
 
 /// Strain energy `1/2 sum w_i^2 y_i^2` of mass-normalised modal amplitudes `y` with
