@@ -6,6 +6,27 @@
 //! dropped modes' flexibility; all three read the same held value and rate from here.
 //! Sized at build time: nothing here allocates after [`Loads::new`].
 
+use super::SolverError;
+
+/// Check loads or rates given by the caller: `n` values (6 per exposed node), all
+/// finite. `what` names them in the message. The one check every solver makes before
+/// taking a load.
+pub fn check(what: &'static str, v: &[f64], n: usize) -> Result<(), SolverError> {
+    if v.len() != n {
+        return Err(SolverError::BadLength {
+            what,
+            expected: n,
+            found: v.len(),
+        });
+    }
+    if v.iter().any(|x| !x.is_finite()) {
+        return Err(SolverError::BadInput(format!(
+            "{what}: values must be finite"
+        )));
+    }
+    Ok(())
+}
+
 /// Held nodal loads with rates (see the module notes).
 #[derive(Debug, Clone)]
 pub struct Loads {
@@ -117,6 +138,27 @@ mod tests {
         // A new value keeps the rates.
         l.set(&[0.0, 0.0], 4.0);
         assert_eq!(l.at(0, 5.0), -1.0);
+    }
+
+    /// Wrong length and non-finite values are refused with the cause named.
+    #[test]
+    fn check_names_the_cause() {
+        assert!(check("loads", &[0.0; 6], 6).is_ok());
+        let e = check("loads", &[0.0; 5], 6).unwrap_err();
+        assert!(matches!(
+            e,
+            SolverError::BadLength {
+                expected: 6,
+                found: 5,
+                ..
+            }
+        ));
+        let e = check("load rates", &[0.0, f64::NAN], 2).unwrap_err();
+        assert!(matches!(e, SolverError::BadInput(_)));
+        assert!(
+            e.to_string().contains("load rates: values must be finite"),
+            "{e}"
+        );
     }
 
     /// Both state layouts round-trip every field.

@@ -100,25 +100,9 @@ impl Exposed {
         &self.gt.as_slice()[j * nb..(j + 1) * nb]
     }
 
-    fn check_len(&self, what: &'static str, v: &[f64]) -> Result<(), SolverError> {
-        if v.len() != 6 * self.nodes {
-            return Err(SolverError::BadLength {
-                what,
-                expected: 6 * self.nodes,
-                found: v.len(),
-            });
-        }
-        if v.iter().any(|x| !x.is_finite()) {
-            return Err(SolverError::BadInput(format!(
-                "{what}: values must be finite"
-            )));
-        }
-        Ok(())
-    }
-
     /// Loads at time `now`: stored and projected; the rate is kept.
     pub fn set_loads(&mut self, loads: &[f64], now: f64) -> Result<(), SolverError> {
-        self.check_len("loads", loads)?;
+        super::loads::check("loads", loads, 6 * self.nodes)?;
         self.held.set(loads, now);
         self.project_loads();
         Ok(())
@@ -127,7 +111,7 @@ impl Exposed {
     /// New rates from `now` on. The load value reached at `now` becomes the new base, so
     /// the load stays continuous.
     pub fn set_rates(&mut self, rates: &[f64], now: f64) -> Result<(), SolverError> {
-        self.check_len("load rates", rates)?;
+        super::loads::check("load rates", rates, 6 * self.nodes)?;
         self.held.set_rates(rates, now);
         self.project_loads();
         self.project_rates();

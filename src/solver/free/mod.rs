@@ -495,21 +495,9 @@ impl Model {
         p
     }
 
-    /// Check the length of a load slice.
+    /// Check loads or rates for this scene's exposed nodes ([`super::loads::check`]).
     pub fn check_loads(&self, what: &'static str, x: &[f64]) -> Result<(), SolverError> {
-        if x.len() != 6 * self.nexp {
-            return Err(SolverError::BadLength {
-                what,
-                expected: 6 * self.nexp,
-                found: x.len(),
-            });
-        }
-        if x.iter().any(|v| !v.is_finite()) {
-            return Err(SolverError::BadState(format!(
-                "{what}: values must be finite"
-            )));
-        }
-        Ok(())
+        super::loads::check(what, x, 6 * self.nexp)
     }
 }
 
