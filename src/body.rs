@@ -7,10 +7,12 @@ use crate::fxb::FxbFile;
 
 mod checks;
 mod load;
+mod modal;
 pub mod placement;
 
 pub use checks::{BodyError, MAX_LOCAL_MODES};
 pub use load::{LoadError, load, load_with_bytes};
+pub use modal::Modal;
 
 /// Rayleigh damping `C_L = alpha diag(m_L) + beta K_L` (block 4); zero when absent.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -73,8 +75,12 @@ pub struct Body {
     pub m_c: Vec<DMatrix<f64>>,
     /// Coupled stiffness sub-blocks K_C,kl at index `3(k-1)+(l-1)`, each `nR x nL`.
     pub k_c: Vec<DMatrix<f64>>,
-    /// Eigenfrequencies of (K_L, m_L) in Hz, ascending.
+    /// Eigenfrequencies of (K_L, m_L) in Hz, ascending (from [`Body::modal`]).
     pub frequencies_hz: Vec<f64>,
+    /// The modes of (K_L, m_L), solved once: the checks, the reduction and the blocked
+    /// solvers all read this one solution. [`Body::solve_modes`] renews it (and
+    /// `frequencies_hz`) after K_L or m_L change.
+    pub modal: Modal,
     /// Non-fatal findings (for example stored Freq far from the computed one).
     pub warnings: Vec<String>,
 }
@@ -134,6 +140,14 @@ impl Body {
                 })
                 .collect(),
         )
+    }
+
+    /// Solve the modes of the current (K_L, m_L) into [`Body::modal`] and
+    /// [`Body::frequencies_hz`]: called by [`Body::assemble`] and by whatever replaces the
+    /// local modes (the reduction), so that the two never describe another K_L.
+    pub fn solve_modes(&mut self) {
+        self.modal = Modal::of(&self.k_l, &self.m_l);
+        self.frequencies_hz = self.modal.frequencies_hz();
     }
 
     /// Position of a node ID in the node list.
@@ -225,7 +239,8 @@ impl Body {
         };
         let p = &file.p0;
         let m_l = DVector::from_column_slice(&file.m_l);
-        let frequencies_hz = eigenfrequencies_hz(&k_l, &m_l);
+        let modal = Modal::of(&k_l, &m_l);
+        let frequencies_hz = modal.frequencies_hz();
         Body {
             node_ids: file.node_ids.clone(),
             nbstat: ns,
@@ -243,34 +258,16 @@ impl Body {
             m_c: sub(&file.m_c),
             k_c: sub(&file.k_c),
             frequencies_hz,
+            modal,
             warnings: Vec::new(),
         }
     }
 }
 
-/// Eigenfrequencies (Hz, ascending) of `K x = w^2 diag(m) x`, from the symmetric
-/// mass-scaled matrix `m^-1/2 K m^-1/2`. Negative round-off eigenvalues read as 0 Hz; a
-/// NaN eigenvalue (overflow) stays NaN, so that the body checks refuse it.
+/// Eigenfrequencies (Hz, ascending) of `K x = w^2 diag(m) x` ([`Modal::frequencies_hz`]
+/// of [`Modal::of`]), for matrices that are not a body's.
 pub fn eigenfrequencies_hz(k: &DMatrix<f64>, m: &DVector<f64>) -> Vec<f64> {
-    let n = m.len();
-    if n == 0 {
-        return Vec::new();
-    }
-    let s = m.map(|v| 1.0 / v.sqrt());
-    let scaled = DMatrix::from_fn(n, n, |i, j| k[(i, j)] * s[i] * s[j]);
-    let mut f: Vec<f64> = scaled
-        .symmetric_eigenvalues()
-        .iter()
-        .map(|&l| {
-            if l.is_nan() {
-                f64::NAN
-            } else {
-                l.max(0.0).sqrt() / (2.0 * std::f64::consts::PI)
-            }
-        })
-        .collect();
-    f.sort_by(f64::total_cmp);
-    f
+    Modal::of(k, m).frequencies_hz()
 }
 
 /// Stable step of the explicit central-difference scheme for a largest frequency

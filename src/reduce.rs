@@ -23,13 +23,13 @@
 //! still describes the whole body's inertia, which is what a scene coupling to a few
 //! nodes of a heavy body wants.
 
-use nalgebra::{DMatrix, DVector, SymmetricEigen};
+use nalgebra::{DMatrix, DVector};
 
 mod participation;
 
 pub use participation::{Participation, effective_mass, static_participation};
 
-use crate::body::{Body, eigenfrequencies_hz};
+use crate::body::Body;
 use crate::fxb::FxbFile;
 
 /// Relative slack when comparing a frequency with `fmax`, so that `fmax` equal to a
@@ -61,24 +61,15 @@ pub struct ModalBasis {
 }
 
 impl ModalBasis {
-    /// Diagonalise `m^-1/2 K_L m^-1/2` (symmetric) and sort the modes by frequency.
+    /// The body's modes ([`Body::modal`]) sorted by frequency.
     pub fn of(body: &Body) -> ModalBasis {
-        let nl = body.nl();
-        if nl == 0 {
-            return ModalBasis {
-                psi: DMatrix::zeros(0, 0),
-                omega: Vec::new(),
-            };
-        }
-        let s = body.m_l.map(|m| 1.0 / m.sqrt());
-        let scaled = DMatrix::from_fn(nl, nl, |i, j| body.k_l[(i, j)] * s[i] * s[j]);
-        let eig = SymmetricEigen::new(scaled);
-        let mut order: Vec<usize> = (0..nl).collect();
-        order.sort_by(|&a, &b| eig.eigenvalues[a].total_cmp(&eig.eigenvalues[b]));
-        let psi = DMatrix::from_fn(nl, nl, |i, j| s[i] * eig.eigenvectors[(i, order[j])]);
-        let omega = order
+        let modal = &body.modal;
+        let nl = modal.ascending.len();
+        let psi = DMatrix::from_fn(nl, nl, |i, j| modal.shapes[(i, modal.ascending[j])]);
+        let omega = modal
+            .ascending
             .iter()
-            .map(|&j| eig.eigenvalues[j].max(0.0).sqrt())
+            .map(|&j| modal.lambda[j].max(0.0).sqrt())
             .collect();
         ModalBasis { psi, omega }
     }
@@ -163,7 +154,7 @@ pub fn truncate(body: &Body, fmax_hz: f64) -> Result<Truncation, ReduceError> {
     out.nbstat = 0;
     out.m_c = body.m_c.iter().map(|m| m * &psi_k).collect();
     out.k_c = body.k_c.iter().map(|m| m * &psi_k).collect();
-    out.frequencies_hz = eigenfrequencies_hz(&out.k_l, &out.m_l);
+    out.solve_modes();
     let hz = basis.frequencies_hz();
     out.freq_file = hz[..k].last().copied().unwrap_or(0.0);
     out.warnings = Vec::new();

@@ -161,7 +161,7 @@ impl Solver for Exact {
         };
         let t0 = self.time;
         // Load over the step: f0 + fd s, f0 the value reached at t0.
-        let dt0 = t0 - self.io.t_set;
+        let dt0 = t0 - self.io.held.t_set;
         advance(
             &self.coef[slot],
             self.io.f.as_slice(),

@@ -105,7 +105,7 @@ impl Explicit {
     /// load (over dt1/2) and the current load (over dt/2).
     fn acceleration(&mut self, t: f64, dt: f64, straddle: bool) {
         let f = 1.0 + 0.5 * self.ra * dt;
-        let dts = t - self.io.t_set;
+        let dts = t - self.io.held.t_set;
         let (wold, wnew) = if straddle && self.dt1 > 0.0 {
             let sum = self.dt1 + dt;
             (self.dt1 / sum, dt / sum)

@@ -187,7 +187,7 @@ impl Solver for Implicit {
         let p = self.p;
         let c = 1.0 - p.af;
         // Load at t_(n+1-alpha_f).
-        let dtf = self.time + c * h - self.io.t_set;
+        let dtf = self.time + c * h - self.io.held.t_set;
         // Per mode, with u = v_(n+1-af) and w = q_(n+1-af) without their a_(n+1) parts:
         // s a1 = f - am a - d u - omega^2 w, then Newmark's updates.
         let (cq_v, cq_a) = (c * h, c * h * h * (0.5 - p.beta));

@@ -22,6 +22,7 @@ pub mod explicit;
 mod expm;
 pub mod free;
 pub mod implicit;
+pub mod loads;
 pub mod nodes;
 pub mod residual;
 
@@ -208,8 +209,10 @@ pub trait Solver: Send {
 
 /// Build a solver for a scene with the chosen method.
 ///
-/// Blocked bodies (Iblo=1) are linear and every method handles them; the exact method
-/// exists only for them. Free bodies are not handled here yet.
+/// Blocked bodies (Iblo=1) are linear and every method handles them. Free bodies
+/// (Iblo=0) run the free explicit or implicit method ([`free`]); the exact method needs a
+/// blocked body and is refused for them. A truncated scene (one with a residual
+/// flexibility) gets the chosen method wrapped in [`residual::Residual`].
 ///
 /// A tip force on the cantilever: the implicit method with full numerical damping
 /// (`rho_inf = 0`) and steps far longer than every period settles on the static

@@ -5,11 +5,12 @@
 
 use std::cell::{Cell, OnceCell};
 
-use nalgebra::{DMatrix, DVector, SymmetricEigen};
+use nalgebra::{DMatrix, DVector};
 
 use super::dense::{dot, gemv_acc};
 
 use super::SolverError;
+use super::loads::Loads;
 use crate::scene::Scene;
 
 /// Exposed-node rows of a mode basis in the global frame, and the caller's load.
@@ -32,12 +33,8 @@ pub struct Exposed {
     pub gt: DMatrix<f64>,
     /// Initial global coordinates, 3 per exposed node.
     pub x0: DVector<f64>,
-    /// Loads as set by the caller (6 per node), the value at `t_set`.
-    pub loads: DVector<f64>,
-    /// Load rates (6 per node, per second).
-    pub rates: DVector<f64>,
-    /// Time at which `loads` holds.
-    pub t_set: f64,
+    /// The caller's loads and rates (6 per node).
+    pub held: Loads,
     /// `gt loads`.
     pub f: DVector<f64>,
     /// `gt rates`.
@@ -89,9 +86,7 @@ impl Exposed {
             nodes: m,
             gt,
             x0,
-            loads: DVector::zeros(6 * m),
-            rates: DVector::zeros(6 * m),
-            t_set: 0.0,
+            held: Loads::new(6 * m),
             f: DVector::zeros(nb),
             fd: DVector::zeros(nb),
         })
@@ -105,27 +100,10 @@ impl Exposed {
         &self.gt.as_slice()[j * nb..(j + 1) * nb]
     }
 
-    fn check_len(&self, what: &'static str, v: &[f64]) -> Result<(), SolverError> {
-        if v.len() != 6 * self.nodes {
-            return Err(SolverError::BadLength {
-                what,
-                expected: 6 * self.nodes,
-                found: v.len(),
-            });
-        }
-        if v.iter().any(|x| !x.is_finite()) {
-            return Err(SolverError::BadInput(format!(
-                "{what}: values must be finite"
-            )));
-        }
-        Ok(())
-    }
-
     /// Loads at time `now`: stored and projected; the rate is kept.
     pub fn set_loads(&mut self, loads: &[f64], now: f64) -> Result<(), SolverError> {
-        self.check_len("loads", loads)?;
-        self.loads.as_mut_slice().copy_from_slice(loads);
-        self.t_set = now;
+        super::loads::check("loads", loads, 6 * self.nodes)?;
+        self.held.set(loads, now);
         self.project_loads();
         Ok(())
     }
@@ -133,12 +111,9 @@ impl Exposed {
     /// New rates from `now` on. The load value reached at `now` becomes the new base, so
     /// the load stays continuous.
     pub fn set_rates(&mut self, rates: &[f64], now: f64) -> Result<(), SolverError> {
-        self.check_len("load rates", rates)?;
-        let dt = now - self.t_set;
-        self.loads.axpy(dt, &self.rates, 1.0);
+        super::loads::check("load rates", rates, 6 * self.nodes)?;
+        self.held.set_rates(rates, now);
         self.project_loads();
-        self.t_set = now;
-        self.rates.as_mut_slice().copy_from_slice(rates);
         self.project_rates();
         Ok(())
     }
@@ -146,32 +121,24 @@ impl Exposed {
     /// `f = gt loads` (only the nonzero loads cost anything).
     fn project_loads(&mut self) {
         self.f.as_mut_slice().fill(0.0);
-        gemv_acc(
-            self.gt.as_slice(),
-            self.loads.as_slice(),
-            self.f.as_mut_slice(),
-        );
+        gemv_acc(self.gt.as_slice(), &self.held.values, self.f.as_mut_slice());
     }
 
     /// `fd = gt rates` (only the nonzero rates cost anything).
     fn project_rates(&mut self) {
         self.fd.as_mut_slice().fill(0.0);
-        gemv_acc(
-            self.gt.as_slice(),
-            self.rates.as_slice(),
-            self.fd.as_mut_slice(),
-        );
+        gemv_acc(self.gt.as_slice(), &self.held.rates, self.fd.as_mut_slice());
     }
 
     /// Generalised load component `i` at time `t`.
     #[inline]
     pub fn force(&self, i: usize, t: f64) -> f64 {
-        self.f[i] + self.fd[i] * (t - self.t_set)
+        self.f[i] + self.fd[i] * (t - self.held.t_set)
     }
 
     /// Generalised load at time `t` into `out` (length nb).
     pub fn force_into(&self, t: f64, out: &mut DVector<f64>) {
-        let dt = t - self.t_set;
+        let dt = t - self.held.t_set;
         for ((o, &f), &fd) in out.iter_mut().zip(self.f.iter()).zip(self.fd.iter()) {
             *o = f + fd * dt;
         }
@@ -212,24 +179,17 @@ impl Exposed {
 
     /// Length of the saved load part: `t_set`, loads, rates.
     pub fn saved_len(&self) -> usize {
-        1 + 12 * self.nodes
+        self.held.state_len()
     }
 
     /// Append the load part of a state.
     pub fn save(&self, data: &mut Vec<f64>) {
-        data.push(self.t_set);
-        data.extend(self.loads.iter());
-        data.extend(self.rates.iter());
+        self.held.save_time_first(data);
     }
 
     /// Restore the load part of a state (length already checked) and re-project it.
     pub fn restore(&mut self, data: &[f64]) {
-        let m6 = 6 * self.nodes;
-        self.t_set = data[0];
-        self.loads.as_mut_slice().copy_from_slice(&data[1..1 + m6]);
-        self.rates
-            .as_mut_slice()
-            .copy_from_slice(&data[1 + m6..1 + 2 * m6]);
+        self.held.load_time_first(data);
         self.project_loads();
         self.project_rates();
     }
@@ -321,25 +281,12 @@ impl std::fmt::Debug for LocalCoords {
     }
 }
 
-/// Mass-normalised modes of a blocked body: `S = m^-1/2 V` with
+/// Mass-normalised modes of a blocked body ([`crate::body::Modal`]): `S = m^-1/2 V` with
 /// `m^-1/2 K_L m^-1/2 = V diag(w^2) V^T`, and the circular frequencies `w`. In the
 /// coordinates `q = S y` the mass is the identity, the stiffness `diag(w^2)` and Rayleigh
 /// damping `diag(alpha + beta w^2)`: every mode is independent.
 pub fn modal_basis(body: &crate::body::Body) -> (DMatrix<f64>, Vec<f64>) {
-    let nl = body.nl();
-    let inv_sqrt = body.m_l.map(|m| 1.0 / m.sqrt());
-    let scaled = DMatrix::from_fn(nl, nl, |i, j| body.k_l[(i, j)] * inv_sqrt[i] * inv_sqrt[j]);
-    // nalgebra refuses an empty matrix: a body without local modes has nothing to
-    // diagonalise.
-    let (values, vectors) = if nl == 0 {
-        (DVector::zeros(0), DMatrix::zeros(0, 0))
-    } else {
-        let eig = SymmetricEigen::new(scaled);
-        (eig.eigenvalues, eig.eigenvectors)
-    };
-    let basis = DMatrix::from_fn(nl, nl, |i, j| inv_sqrt[i] * vectors[(i, j)]);
-    let omega = values.iter().map(|&l| l.max(0.0).sqrt()).collect();
-    (basis, omega)
+    (body.modal.shapes.clone(), body.modal.omega())
 }
 
 /// Strain energy `1/2 sum w_i^2 y_i^2` of mass-normalised modal amplitudes `y` with

@@ -16,6 +16,7 @@
 
 use nalgebra::{DMatrix, Matrix3};
 
+use super::loads::Loads;
 use super::{Frame, Method, Solver, SolverError, State};
 use crate::scene::Scene;
 
@@ -26,9 +27,8 @@ pub struct Residual {
     r: DMatrix<f64>,
     /// Fixed frame of a blocked body; `None` for a free body (frame from the solver).
     p_fixed: Option<Matrix3<f64>>,
-    loads: Vec<f64>,
-    rates: Vec<f64>,
-    t_set: f64,
+    /// The caller's loads, held alongside the inner solver's copy.
+    held: Loads,
 }
 
 impl Residual {
@@ -57,9 +57,7 @@ impl Residual {
             inner,
             r,
             p_fixed: scene.body.iblo.then_some(scene.body.p0),
-            loads: vec![0.0; 6 * m],
-            rates: vec![0.0; 6 * m],
-            t_set: 0.0,
+            held: Loads::new(6 * m),
         })
     }
 
@@ -75,7 +73,7 @@ impl Residual {
     /// rotations; `v` is a global load-like vector given by `value(i)` for entry i.
     fn add(&self, rows: usize, value: impl Fn(usize) -> f64, out: &mut [f64]) {
         let p = self.frame_p();
-        let m = self.loads.len() / 6;
+        let m = self.held.len() / 6;
         for i in 0..m.min(out.len() / 3) {
             let mut acc = [0.0; 3];
             for j in 0..m {
@@ -100,7 +98,7 @@ impl Residual {
     }
 
     fn load(&self, k: usize) -> f64 {
-        self.loads[k] + self.rates[k] * (self.inner.time() - self.t_set)
+        self.held.at(k, self.inner.time())
     }
 }
 
@@ -113,19 +111,12 @@ impl Solver for Residual {
     }
     fn set_loads(&mut self, loads: &[f64]) -> Result<(), SolverError> {
         self.inner.set_loads(loads)?;
-        self.loads.copy_from_slice(loads);
-        self.t_set = self.inner.time();
+        self.held.set(loads, self.inner.time());
         Ok(())
     }
     fn set_load_rates(&mut self, rates: &[f64]) -> Result<(), SolverError> {
         self.inner.set_load_rates(rates)?;
-        let now = self.inner.time();
-        let dt = now - self.t_set;
-        for (l, r) in self.loads.iter_mut().zip(self.rates.iter()) {
-            *l += r * dt;
-        }
-        self.t_set = now;
-        self.rates.copy_from_slice(rates);
+        self.held.set_rates(rates, self.inner.time());
         Ok(())
     }
     fn step(&mut self, h: f64) -> Result<(), SolverError> {
@@ -137,14 +128,14 @@ impl Solver for Residual {
     }
     fn velocities(&self, out: &mut [f64]) {
         self.inner.velocities(out);
-        self.add(0, |k| self.rates[k], out);
+        self.add(0, |k| self.held.rates[k], out);
     }
     fn accelerations(&self, out: &mut [f64]) {
         self.inner.accelerations(out);
     }
     fn rotation_rates(&self, out: &mut [f64]) {
         self.inner.rotation_rates(out);
-        self.add(3, |k| self.rates[k], out);
+        self.add(3, |k| self.held.rates[k], out);
     }
     fn modal(&self) -> &[f64] {
         self.inner.modal()
@@ -152,7 +143,7 @@ impl Solver for Residual {
     fn strain_energy(&self) -> f64 {
         // 1/2 g^T R g with g = P^T f node-wise (R is symmetric, positive semi-definite).
         let p = self.frame_p();
-        let n = self.loads.len();
+        let n = self.held.len();
         let g = |k: usize| -> f64 {
             let (node, c) = (k / 6, k % 6);
             let base = 6 * node + 3 * (c / 3);
@@ -175,19 +166,15 @@ impl Solver for Residual {
     }
     fn state(&self) -> State {
         let mut s = self.inner.state();
-        s.data.push(self.t_set);
-        s.data.extend_from_slice(&self.loads);
-        s.data.extend_from_slice(&self.rates);
+        self.held.save_time_first(&mut s.data);
         s
     }
     fn state_into(&self, out: &mut State) {
         self.inner.state_into(out);
-        out.data.push(self.t_set);
-        out.data.extend_from_slice(&self.loads);
-        out.data.extend_from_slice(&self.rates);
+        self.held.save_time_first(&mut out.data);
     }
     fn set_state(&mut self, state: &State) -> Result<(), SolverError> {
-        let tail = 1 + self.loads.len() + self.rates.len();
+        let tail = self.held.state_len();
         if state.data.len() < tail {
             return Err(SolverError::BadState(format!(
                 "{} values, a truncated solver's state has at least {tail}",
@@ -200,10 +187,7 @@ impl Solver for Residual {
             data: head.to_vec(),
         };
         self.inner.set_state(&inner)?;
-        let n = self.loads.len();
-        self.t_set = rest[0];
-        self.loads.copy_from_slice(&rest[1..1 + n]);
-        self.rates.copy_from_slice(&rest[1 + n..]);
+        self.held.load_time_first(rest);
         Ok(())
     }
 }

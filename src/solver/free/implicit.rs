@@ -385,8 +385,7 @@ impl Solver for Implicit {
 
     fn set_loads(&mut self, loads: &[f64]) -> Result<(), SolverError> {
         self.m.check_loads("loads", loads)?;
-        self.loads.values.copy_from_slice(loads);
-        self.loads.t_set = self.t;
+        self.loads.set(loads, self.t);
         if self.t == 0.0 {
             self.fresh = true;
         }

@@ -24,6 +24,7 @@ use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 
 use super::SolverError;
 use super::dense::bilinear;
+pub(crate) use super::loads::Loads;
 use crate::body::Body;
 use crate::scene::Scene;
 
@@ -143,60 +144,6 @@ pub(crate) fn omega_rate_from_frame(p: &Matrix3<f64>, v: &[f64]) -> Vector3<f64>
     -d1 * e2.dot(&d3) - e1 * d2.dot(&d3) + d2 * e1.dot(&d3) + e2 * d1.dot(&d3)
         - d3 * e1.dot(&d2)
         - e3 * d1.dot(&d2)
-}
-
-/// Loads on the exposed nodes: values set at `t_set` plus rates.
-#[derive(Debug, Clone)]
-pub(crate) struct Loads {
-    pub values: Vec<f64>,
-    pub rates: Vec<f64>,
-    pub t_set: f64,
-}
-
-impl Loads {
-    fn new(n: usize) -> Loads {
-        Loads {
-            values: vec![0.0; n],
-            rates: vec![0.0; n],
-            t_set: 0.0,
-        }
-    }
-
-    /// Load component `i` at time `t`.
-    #[inline]
-    pub fn at(&self, i: usize, t: f64) -> f64 {
-        self.values[i] + self.rates[i] * (t - self.t_set)
-    }
-
-    /// New rates from time `t`, keeping the load continuous: the values are re-anchored
-    /// at `t` first. `rates` has been checked for length and finiteness.
-    pub fn set_rates(&mut self, rates: &[f64], t: f64) {
-        for i in 0..rates.len() {
-            self.values[i] = self.at(i, t);
-        }
-        self.t_set = t;
-        self.rates.copy_from_slice(rates);
-    }
-
-    /// Push into a state vector.
-    pub fn save(&self, out: &mut Vec<f64>) {
-        out.extend_from_slice(&self.values);
-        out.extend_from_slice(&self.rates);
-        out.push(self.t_set);
-    }
-
-    /// Read back from a state vector.
-    pub fn load(&mut self, data: &[f64]) {
-        let n = self.values.len();
-        self.values.copy_from_slice(&data[..n]);
-        self.rates.copy_from_slice(&data[n..2 * n]);
-        self.t_set = data[2 * n];
-    }
-
-    /// Number of state values.
-    pub fn state_len(&self) -> usize {
-        2 * self.values.len() + 1
-    }
 }
 
 /// The matrices of a free body restricted to a scene, and the kinematic maps shared by
@@ -550,21 +497,9 @@ impl Model {
         p
     }
 
-    /// Check the length of a load slice.
+    /// Check loads or rates for this scene's exposed nodes ([`super::loads::check`]).
     pub fn check_loads(&self, what: &'static str, x: &[f64]) -> Result<(), SolverError> {
-        if x.len() != 6 * self.nexp {
-            return Err(SolverError::BadLength {
-                what,
-                expected: 6 * self.nexp,
-                found: x.len(),
-            });
-        }
-        if x.iter().any(|v| !v.is_finite()) {
-            return Err(SolverError::BadState(format!(
-                "{what}: values must be finite"
-            )));
-        }
-        Ok(())
+        super::loads::check(what, x, 6 * self.nexp)
     }
 }
 
