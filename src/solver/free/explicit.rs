@@ -49,6 +49,7 @@ use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 
 use super::lu::Lu;
 use super::{Loads, MAX_FRAME_ERROR, Model, SPIN_STEP, frame_omega, point_vec, spin_warning};
+use super::{Undo, all_or_nothing};
 use crate::scene::Scene;
 use crate::solver::nodes::check_state;
 use crate::solver::{Frame, MAX_INTERNAL_STEPS, Method, Options, Solver, SolverError, State};
@@ -415,27 +416,13 @@ impl Solver for Explicit {
                 max_h: MAX_INTERNAL_STEPS * internal,
             });
         }
-        let mut backup = std::mem::take(&mut self.backup.data);
-        self.write_state(&mut backup);
-        self.backup.data = backup;
-        let r = self.run_step(h);
-        if r.is_err() {
-            let empty = State {
-                method: Method::Explicit,
-                data: Vec::new(),
-            };
-            let backup = std::mem::replace(&mut self.backup, empty);
-            let restored = self.set_state(&backup);
-            self.backup = backup;
-            restored?;
-            return r;
-        }
+        all_or_nothing(self, |s| s.run_step(h))?;
         self.warning = spin_warning(
             &self.m,
             self.frame_angular_velocity().norm(),
             &mut self.warned,
         );
-        r
+        Ok(())
     }
 
     fn positions(&self, out: &mut [f64]) {
@@ -530,5 +517,14 @@ impl Solver for Explicit {
         self.loads.load(&d[o..]);
         self.w.key = super::NO_KEY;
         Ok(())
+    }
+}
+
+impl Undo for Explicit {
+    fn backup(&mut self) -> &mut State {
+        &mut self.backup
+    }
+    fn save_into(&self, out: &mut Vec<f64>) {
+        self.write_state(out);
     }
 }

@@ -37,6 +37,7 @@ use super::{
     Loads, MAX_FRAME_ERROR, Model, PAIRS, edge, frame_error, frame_invalid, frame_omega,
     omega_matrix, omega_rate_from_frame, point_offset, point_vec, spin_warning,
 };
+use super::{Undo, all_or_nothing};
 use crate::scene::Scene;
 use crate::solver::nodes::check_state;
 use crate::solver::{Frame, MAX_INTERNAL_STEPS, Method, Options, Solver, SolverError, State};
@@ -404,23 +405,9 @@ impl Solver for Implicit {
         if !(h.is_finite() && h > 0.0) {
             return Err(SolverError::BadStep(h));
         }
-        let mut backup = std::mem::take(&mut self.backup.data);
-        self.write_state(&mut backup);
-        self.backup.data = backup;
-        let r = self.run_step(h);
-        if r.is_err() {
-            let empty = State {
-                method: Method::Implicit,
-                data: Vec::new(),
-            };
-            let backup = std::mem::replace(&mut self.backup, empty);
-            let restored = self.set_state(&backup);
-            self.backup = backup;
-            restored?;
-            return r;
-        }
+        all_or_nothing(self, |s| s.run_step(h))?;
         self.warning = spin_warning(&self.m, self.spin_rate(), &mut self.warned);
-        r
+        Ok(())
     }
 
     fn positions(&self, out: &mut [f64]) {
@@ -489,5 +476,14 @@ impl Solver for Implicit {
         self.loads.load(&d[o..]);
         self.p = self.m.frame_of(self.q.as_slice());
         Ok(())
+    }
+}
+
+impl Undo for Implicit {
+    fn backup(&mut self) -> &mut State {
+        &mut self.backup
+    }
+    fn save_into(&self, out: &mut Vec<f64>) {
+        self.write_state(out);
     }
 }

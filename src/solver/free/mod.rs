@@ -56,6 +56,42 @@ pub fn coords_from_rigid_modes(body: &Body) -> Vec<[f64; 3]> {
     body.rigid_mode_positions().unwrap_or_default()
 }
 
+/// What makes a free method's step all-or-nothing: its complete state, written into a
+/// reused buffer before the step and restored from it when the step fails. A library user
+/// calling `Solver::step` directly gets the guarantee the FMU's step guard also gives.
+pub(crate) trait Undo: super::Solver {
+    /// The reused buffer (allocated once, at the solver's construction).
+    fn backup(&mut self) -> &mut super::State;
+    /// Write the complete state into `out` (the layout `set_state` reads).
+    fn save_into(&self, out: &mut Vec<f64>);
+}
+
+/// Run `step` on `s`; when it fails, put back the state from before it (no allocation:
+/// the buffer is taken and returned).
+pub(crate) fn all_or_nothing<S: Undo>(
+    s: &mut S,
+    step: impl FnOnce(&mut S) -> Result<(), SolverError>,
+) -> Result<(), SolverError> {
+    let mut data = std::mem::take(&mut s.backup().data);
+    s.save_into(&mut data);
+    s.backup().data = data;
+    let r = step(s);
+    if r.is_err() {
+        let method = s.method();
+        let saved = std::mem::replace(
+            s.backup(),
+            super::State {
+                method,
+                data: Vec::new(),
+            },
+        );
+        let restored = s.set_state(&saved);
+        *s.backup() = saved;
+        restored?;
+    }
+    r
+}
+
 /// The key of a factorisation that belongs to no step: NaN never compares equal, so
 /// the first comparison with real step sizes asks for a new factorisation. A plain pair
 /// rather than `Option<(f64, f64)>`: comparing an `Option` that is `None` with `Some(..)`
