@@ -248,20 +248,8 @@ pub unsafe fn slice_mut<'a, T>(
 mod tests {
     use super::*;
 
-    use crate::fmu::options::SceneOptions;
-    use crate::fmu::scene_io::make_scene;
-
     fn instance() -> Box<Instance> {
-        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-        let body = crate::body::load(&root.join("fixtures/cantilever.fxb")).unwrap();
-        let xyz = std::collections::HashMap::from([(121, [1.0, 0.0, 0.0])]);
-        let opts = SceneOptions {
-            name: "t".into(),
-            nodes: vec![121],
-            units: None,
-            fmax: None,
-        };
-        let scene = make_scene(body, &xyz, &opts, "cantilever").unwrap();
+        let scene = crate::fmu::scene_io::cantilever_tip_scene();
         let callbacks = fmi2CallbackFunctions {
             logger: None,
             allocateMemory: None,

@@ -187,8 +187,6 @@ pub fn largest_input(table: &VarTable, loads: &[f64], rates: &[f64]) -> String {
 #[cfg(test)]
 mod tests {
     use super::super::model::{Model, Phase};
-    use super::super::options::SceneOptions;
-    use super::super::scene_io::make_scene;
     use super::super::vars::Causality;
 
     /// The fast path's claim, checked against the outputs themselves (an independent
@@ -198,16 +196,7 @@ mod tests {
     /// full check, and refused).
     #[test]
     fn an_accepted_step_has_every_output_finite() {
-        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-        let body = crate::body::load(&root.join("fixtures/cantilever.fxb")).unwrap();
-        let xyz = std::collections::HashMap::from([(121, [1.0, 0.0, 0.0])]);
-        let opts = SceneOptions {
-            name: "t".into(),
-            nodes: vec![121],
-            units: None,
-            fmax: None,
-        };
-        let full = make_scene(body, &xyz, &opts, "cantilever").unwrap();
+        let full = crate::fmu::scene_io::cantilever_tip_scene();
         let (cut, _) = full.truncated(40.0).unwrap();
         let (mut fast, mut slow, mut refused) = (0, 0, 0);
         for scene in [full, cut] {

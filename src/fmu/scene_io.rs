@@ -219,3 +219,19 @@ pub fn load_resources(dir: &Path) -> Result<Resources, ResourceError> {
         options,
     })
 }
+
+/// The shipped cantilever with its tip node 121 exposed (at x = 1 m), for the unit tests
+/// of the FMU model and the FMI layer.
+#[cfg(test)]
+pub(crate) fn cantilever_tip_scene() -> Scene {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let body = crate::body::load(&root.join("fixtures/cantilever.fxb")).unwrap();
+    let xyz = HashMap::from([(121, [1.0, 0.0, 0.0])]);
+    let opts = SceneOptions {
+        name: "t".into(),
+        nodes: vec![121],
+        units: None,
+        fmax: None,
+    };
+    make_scene(body, &xyz, &opts, "cantilever").unwrap()
+}
