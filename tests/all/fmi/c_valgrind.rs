@@ -42,19 +42,7 @@ fn careless_c_master_and_short_valgrind_pass() {
     // rates included: the driver sets d/dt of the load each step).
     let res = fxbody::fmu::scene_io::load_resources(&fx.dir.join("resources")).unwrap();
     let method = fx.p.table.default_method;
-    let mut s =
-        fxbody::solver::build(&res.scene, method, &fxbody::solver::Options::default()).unwrap();
-    let (mut loads, mut rates) = ([0.0; 6], [0.0; 6]);
-    for k in 0..steps {
-        let t = k as f64 * H;
-        loads[1] = (300.0 * t).sin() + if k % 50 == 0 { 0.5 } else { 0.0 };
-        rates[1] = 300.0 * (300.0 * t).cos();
-        s.set_loads(&loads).unwrap();
-        s.set_load_rates(&rates).unwrap();
-        s.step(H).unwrap();
-    }
-    let mut pos = [0.0; 3];
-    s.positions(&mut pos);
+    let pos = rust_replay(&res.scene, method, steps);
     assert!(pos[1].abs() > 1e-7, "a real deflection {}", pos[1]);
     assert!(
         (y_c - pos[1]).abs() <= 1e-12 * pos[1].abs(),
@@ -145,19 +133,7 @@ fn careless_on_free(name: &str, node: i64) {
             String::from_utf8_lossy(&out.stderr)
         );
         let y_c: f64 = text.lines().nth(1).unwrap().trim().parse().unwrap();
-        let mut s =
-            fxbody::solver::build(&res.scene, method, &fxbody::solver::Options::default()).unwrap();
-        let (mut loads, mut rates) = ([0.0; 6], [0.0; 6]);
-        for k in 0..steps {
-            let t = k as f64 * H;
-            loads[1] = (300.0 * t).sin() + if k % 50 == 0 { 0.5 } else { 0.0 };
-            rates[1] = 300.0 * (300.0 * t).cos();
-            s.set_loads(&loads).unwrap();
-            s.set_load_rates(&rates).unwrap();
-            s.step(H).unwrap();
-        }
-        let mut pos = [0.0; 3];
-        s.positions(&mut pos);
+        let pos = rust_replay(&res.scene, method, steps);
         assert!(
             (y_c - pos[1]).abs() <= 1e-12 * pos[1].abs(),
             "{name} {method:?}: C {y_c} vs Rust {}",
@@ -192,4 +168,27 @@ fn careless_on_free(name: &str, node: i64) {
         );
         println!("{name}, {method:?}: C = Rust, memcheck clean ({memcheck_steps} steps)");
     }
+}
+
+/// The C driver's load sequence (tip fy = sin(300 t) plus a 0.5 N kick every 50 steps,
+/// with its input rate) replayed on the Rust solver over `scene`: the exposed node's
+/// position after `steps` steps of H, the independent reference for the C master.
+fn rust_replay(
+    scene: &fxbody::scene::Scene,
+    method: fxbody::solver::Method,
+    steps: usize,
+) -> [f64; 3] {
+    let mut s = fxbody::solver::build(scene, method, &fxbody::solver::Options::default()).unwrap();
+    let (mut loads, mut rates) = ([0.0; 6], [0.0; 6]);
+    for k in 0..steps {
+        let t = k as f64 * H;
+        loads[1] = (300.0 * t).sin() + if k % 50 == 0 { 0.5 } else { 0.0 };
+        rates[1] = 300.0 * (300.0 * t).cos();
+        s.set_loads(&loads).unwrap();
+        s.set_load_rates(&rates).unwrap();
+        s.step(H).unwrap();
+    }
+    let mut pos = [0.0; 3];
+    s.positions(&mut pos);
+    pos
 }
