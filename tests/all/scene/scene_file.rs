@@ -305,3 +305,51 @@ fn the_format_document_lists_every_section_in_file_order() {
         at += k + row.len();
     }
 }
+
+/// `--embed-source` adds the body file, byte for byte, as resources/source.fxb; without
+/// it the archive's resources are the scene file and the options only, and the GUID is
+/// the same either way (the source is never read).
+#[test]
+fn embed_source_adds_the_body_file_and_nothing_else_changes() {
+    let lib = b"not a library";
+    let names = |embed: bool| {
+        let req = PackRequest {
+            body: fixture("cantilever.fxb"),
+            coords: Some(fixture("cantilever.nodes.rad")),
+            nodes: Some(vec![121]),
+            embed_source: embed,
+            ..PackRequest::default()
+        };
+        let p = prepare_with(&req, None).unwrap();
+        let files = fxbody_host::zip::read(&fxbody::fmu::pack::archive(&p, lib).unwrap()).unwrap();
+        (p.guid, files)
+    };
+    let (g0, plain) = names(false);
+    let (g1, embedded) = names(true);
+    assert_eq!(g0, g1);
+    let resources = |files: &[(String, Vec<u8>)]| {
+        files
+            .iter()
+            .filter(|(n, _)| n.starts_with("resources/"))
+            .map(|(n, _)| n.clone())
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(
+        resources(&plain),
+        ["resources/scene.fxs", "resources/scene.txt"]
+    );
+    assert_eq!(
+        resources(&embedded),
+        [
+            "resources/scene.fxs",
+            "resources/scene.txt",
+            "resources/source.fxb"
+        ]
+    );
+    let source = &embedded
+        .iter()
+        .find(|(n, _)| n == "resources/source.fxb")
+        .unwrap()
+        .1;
+    assert_eq!(source, &std::fs::read(fixture("cantilever.fxb")).unwrap());
+}
