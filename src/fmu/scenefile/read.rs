@@ -70,6 +70,12 @@ pub fn from_bytes(bytes: &[u8], file: &str) -> Result<Stored, SceneFileError> {
     if let Some(v) = (7..BODY_WORDS).map(|k| b.f64(k)).find(|v| !v.is_finite()) {
         return Err(r.bad("BODY", format!("value {v}: expected finite")));
     }
+    if alpha < 0.0 || beta < 0.0 {
+        return Err(r.bad(
+            "BODY",
+            format!("Rayleigh alpha {alpha}, beta {beta}: expected >= 0"),
+        ));
+    }
     if nbstat > nl || ![0, 12, 15].contains(&nr) {
         return Err(r.bad(
             "BODY",

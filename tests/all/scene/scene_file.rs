@@ -245,6 +245,19 @@ fn every_damaged_scene_file_is_refused_at_instantiation_with_its_reason() {
             },
             "section MASS: local mass -1: expected > 0",
         ),
+        (
+            "a negative Rayleigh beta, checksum recomputed",
+            {
+                // BODY word 9 (after the 32-byte header and BODY's 16-byte header).
+                let mut b = good.clone();
+                let at = 32 + 16 + 8 * 9;
+                b[at..at + 8].copy_from_slice(&(-1e-4f64).to_le_bytes());
+                let sum = fnv(&b[32..]);
+                b[24..32].copy_from_slice(&sum);
+                b
+            },
+            "section BODY: Rayleigh alpha 0, beta -0.0001: expected >= 0",
+        ),
     ];
     for (what, bytes, want) in damage {
         std::fs::write(&path, &bytes).unwrap();
