@@ -9,6 +9,7 @@ mod model_error;
 pub mod options;
 pub mod pack;
 pub mod scene_io;
+pub mod scenefile;
 pub mod snapshot;
 mod time;
 pub mod vars;

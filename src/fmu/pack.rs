@@ -1,14 +1,16 @@
 //! `fxbody pack`: a body file, its coordinates and the options into an `.fmu` archive
-//! with modelDescription.xml, the library, resources/ and documentation/.
+//! with modelDescription.xml, the library, resources/ (the scene file, sized to the
+//! scene, and the options) and documentation/.
 
 use std::path::{Path, PathBuf};
 
 use super::doc::index_html;
 use super::options::{SceneOptions, UnitSystem, UnknownUnits};
 use super::scene_io::{
-    BODY_FILE, COORDS_FILE, OPTIONS_FILE, SceneError, coords_csv, coords_from_rigid_modes, guid,
-    make_scene, summary,
+    OPTIONS_FILE, SCENE_FILE, SOURCE_FILE, SceneError, coords_from_rigid_modes, guid, make_scene,
+    summary,
 };
+use super::scenefile;
 use super::vars::VarTable;
 use super::xml::model_description;
 use super::zip::{Entry, ZipError, write};
@@ -164,6 +166,9 @@ pub struct PackRequest {
     pub name: Option<String>,
     /// Unit system name (default: no units).
     pub units: Option<String>,
+    /// Also store the body file itself in resources/ (`--embed-source`), for
+    /// traceability only: the FMU reads the scene file.
+    pub embed_source: bool,
 }
 
 /// A scene ready to be described or packed.
@@ -176,10 +181,12 @@ pub struct Prepared {
     pub options: SceneOptions,
     /// Content GUID.
     pub guid: String,
-    /// The body file bytes as stored in resources/.
+    /// The body file's bytes (stored in resources/ only with `embed_source`).
     pub body_bytes: Vec<u8>,
-    /// resources/coords.csv.
-    pub coords_csv: String,
+    /// Whether the archive carries the body file too (`--embed-source`).
+    pub embed_source: bool,
+    /// resources/scene.fxs: the scene's solver data ([`scenefile`]).
+    pub scene_file: Vec<u8>,
     /// resources/scene.txt.
     pub options_text: String,
     /// modelDescription.xml.
@@ -309,17 +316,10 @@ pub fn prepare_with(req: &PackRequest, fmax: Option<Fmax>) -> Result<Prepared, P
         units,
         fmax,
     };
-    // Only the body's own nodes, in body order: the stored file does not depend on how
-    // the user's coordinate file was ordered or what else it held.
-    let stored: Vec<(i64, [f64; 3])> = body
-        .node_ids
-        .iter()
-        .filter_map(|id| map.get(id).map(|x| (*id, *x)))
-        .collect();
-    let coords_text = coords_csv(&stored);
     let options_text = options.to_text();
-    let guid = guid(&body_bytes, coords_text.as_bytes(), &options_text);
     let scene = make_scene(body, &map, &options, &body_name)?;
+    let scene_file = scenefile::to_bytes(&scene);
+    let guid = guid(scenefile::checksum_of(&scene_file), &options_text);
     let table = VarTable::new(&scene);
     if all_exposed && table.vars.len() > 1000 {
         notes.push(format!(
@@ -335,7 +335,8 @@ pub fn prepare_with(req: &PackRequest, fmax: Option<Fmax>) -> Result<Prepared, P
         options,
         guid,
         body_bytes,
-        coords_csv: coords_text,
+        embed_source: req.embed_source,
+        scene_file,
         options_text,
         xml,
         notes,
@@ -444,28 +445,35 @@ pub fn archive(p: &Prepared, lib: &[u8]) -> Result<Vec<u8>, PackError> {
             data: lib.to_vec(),
             mode: 0o755,
         },
-        Entry {
-            name: format!("resources/{BODY_FILE}"),
-            data: p.body_bytes.clone(),
-            mode: 0o644,
-        },
-        Entry {
-            name: format!("resources/{COORDS_FILE}"),
-            data: p.coords_csv.clone().into_bytes(),
-            mode: 0o644,
-        },
-        Entry {
-            name: format!("resources/{OPTIONS_FILE}"),
-            data: p.options_text.clone().into_bytes(),
-            mode: 0o644,
-        },
-        Entry {
-            name: "documentation/index.html".into(),
-            data: index_html(&p.scene, &p.table, &p.options, &p.guid).into_bytes(),
-            mode: 0o644,
-        },
     ];
+    let mut entries = entries;
+    entries.extend(resource_entries(p));
+    entries.push(Entry {
+        name: "documentation/index.html".into(),
+        data: index_html(&p.scene, &p.table, &p.options, &p.guid).into_bytes(),
+        mode: 0o644,
+    });
     Ok(write(&entries)?)
+}
+
+/// The files of `resources/`, named as in the archive: the scene file and the options
+/// (all the FMU reads), and the body file when `embed_source` asks for it.
+pub fn resource_entries(p: &Prepared) -> Vec<Entry> {
+    let mut files = vec![
+        (SCENE_FILE, p.scene_file.clone()),
+        (OPTIONS_FILE, p.options_text.clone().into_bytes()),
+    ];
+    if p.embed_source {
+        files.push((SOURCE_FILE, p.body_bytes.clone()));
+    }
+    files
+        .into_iter()
+        .map(|(name, data)| Entry {
+            name: format!("resources/{name}"),
+            data,
+            mode: 0o644,
+        })
+        .collect()
 }
 
 /// Pack `req` with the library at `lib` into `out`. Returns the prepared scene.

@@ -1,6 +1,7 @@
 //! From files to a scene: the exposed node list and coordinates, and the content GUID.
-//! Shared by `fxbody pack` (from the user's files) and the FMU at instantiation (from
-//! its resources/ folder), so both derive the same scene and the same GUID.
+//! `fxbody pack` builds the scene from the user's files ([`make_scene`]) and stores it
+//! in the scene file ([`scenefile`]); the FMU reads that file back at instantiation
+//! ([`load_resources`]), so both hold the same scene and derive the same GUID.
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -8,9 +9,9 @@ use std::sync::Arc;
 
 use super::hash::content_guid;
 use super::options::{OptionsError, SceneOptions};
-use crate::body::placement::PlacementError;
-use crate::body::{self, Body, LoadError};
-use crate::fxb::{self, coords};
+use super::scenefile;
+use crate::body::Body;
+use crate::fxb;
 use crate::reduce::ReduceError;
 use crate::scene::Scene;
 
@@ -63,36 +64,38 @@ pub enum ResourceError {
     /// scene.txt was refused.
     #[error(transparent)]
     Options(#[from] OptionsError),
-    /// body.fxb could not be read or is not a valid body.
+    /// scene.fxs could not be read or was refused.
     #[error(transparent)]
-    Body(#[from] LoadError),
-    /// coords.csv could not be parsed.
-    #[error(transparent)]
-    Coords(#[from] coords::CoordsError),
-    /// coords.csv contradicts the body's rigid modes.
-    #[error(transparent)]
-    Placement(#[from] Box<PlacementError>),
-    /// The exposed nodes do not make a scene.
-    #[error(transparent)]
-    Scene(#[from] SceneError),
+    SceneFile(#[from] scenefile::ReadError),
+    /// scene.txt and scene.fxs describe different scenes.
+    #[error(
+        "{}: {what}; the resources are from different packs: pack the FMU again",
+        .dir.display()
+    )]
+    Mismatch {
+        /// The resources folder.
+        dir: PathBuf,
+        /// What differs.
+        what: String,
+    },
 }
 
-/// File names inside `resources/`.
-pub const BODY_FILE: &str = "body.fxb";
-/// Coordinates of the body's nodes, CSV `id,x,y,z`.
-pub const COORDS_FILE: &str = "coords.csv";
+/// The scene file inside `resources/` ([`scenefile`]): what the solver needs.
+pub const SCENE_FILE: &str = "scene.fxs";
+/// The original body file, inside `resources/` only when packed with `--embed-source`
+/// (for traceability: the FMU never reads it).
+pub const SOURCE_FILE: &str = "source.fxb";
 /// The pack options.
 pub const OPTIONS_FILE: &str = "scene.txt";
 
-/// The GUID of a packed scene: a hash of the body bytes, the coordinate text, the
-/// options text and the crate version (a state saved by one build is not loaded by
-/// another).
-pub fn guid(body: &[u8], coords_csv: &[u8], options: &str) -> String {
+/// The GUID of a packed scene: a hash of the scene file's checksum (which covers every
+/// number the solver reads), the options text and the crate version (a state saved by
+/// one build is not loaded by another).
+pub fn guid(scene_checksum: u64, options: &str) -> String {
     content_guid(&[
         b"fxbody",
         env!("CARGO_PKG_VERSION").as_bytes(),
-        body,
-        coords_csv,
+        &scene_checksum.to_le_bytes(),
         options.as_bytes(),
     ])
 }
@@ -167,15 +170,6 @@ pub fn summary(ids: &[i64]) -> String {
     }
 }
 
-/// Coordinates as the CSV text stored in resources (full f64 precision, file order).
-pub fn coords_csv(coords: &[(i64, [f64; 3])]) -> String {
-    let mut s = String::from("id,x,y,z\n");
-    for (id, [x, y, z]) in coords {
-        s.push_str(&format!("{id},{x:?},{y:?},{z:?}\n"));
-    }
-    s
-}
-
 /// Global coordinates of every node of a free body from its rigid modes, with the frame
 /// origin L0 at (0, 0, 0) ([`Body::rigid_mode_positions`]); `None` for a blocked body.
 pub fn coords_from_rigid_modes(body: &Body) -> Option<Vec<(i64, [f64; 3])>> {
@@ -193,29 +187,51 @@ pub struct Resources {
     pub guid: String,
 }
 
-/// Read `resources/` (body, coordinates, options) and rebuild the scene and GUID.
+/// Read `resources/` (the scene file and the options) and rebuild the scene and GUID:
+/// one read of each file, no `.fxb` parsing, no eigen-solution. The options must name
+/// the nodes the scene file holds, and truncation (`fmax`) exactly when it holds a
+/// residual flexibility.
 pub fn load_resources(dir: &Path) -> Result<Resources, ResourceError> {
-    let read = |name: &str| {
-        let path = dir.join(name);
-        fxb::input::read_regular(&path).map_err(|source| ResourceError::Read { path, source })
-    };
-    let body_path = dir.join(BODY_FILE);
-    let (body, body_bytes) = body::load_with_bytes(&body_path)?;
-    let coords_bytes = read(COORDS_FILE)?;
-    let options_bytes = read(OPTIONS_FILE)?;
+    let options_path = dir.join(OPTIONS_FILE);
+    let options_bytes =
+        fxb::input::read_regular(&options_path).map_err(|source| ResourceError::Read {
+            path: options_path.clone(),
+            source,
+        })?;
     let options_text = String::from_utf8(options_bytes)
-        .map_err(|_| ResourceError::NotUtf8(dir.join(OPTIONS_FILE)))?;
-    let body_name = body_path.display().to_string();
-    let options =
-        SceneOptions::parse(&options_text, &dir.join(OPTIONS_FILE).display().to_string())?;
-    let coords_name = dir.join(COORDS_FILE).display().to_string();
-    let xyz = coords::parse_csv(&coords_bytes, &coords_name)?;
-    let map = coords::to_map(&xyz);
-    crate::body::placement::check_coords(&body, &map, &coords_name, &body_name)?;
-    let scene = make_scene(body, &map, &options, &body_name)?;
+        .map_err(|_| ResourceError::NotUtf8(options_path.clone()))?;
+    let options = SceneOptions::parse(&options_text, &options_path.display().to_string())?;
+    let stored = scenefile::read(&dir.join(SCENE_FILE))?;
+    let scene = stored.scene;
+    let mismatch = |what: String| ResourceError::Mismatch {
+        dir: dir.to_path_buf(),
+        what,
+    };
+    if scene.body.node_ids != options.nodes {
+        return Err(mismatch(format!(
+            "{OPTIONS_FILE} exposes the nodes {}, {SCENE_FILE} holds {}",
+            summary(&options.nodes),
+            summary(&scene.body.node_ids)
+        )));
+    }
+    if options.fmax.is_some() != scene.residual.is_some() {
+        return Err(mismatch(format!(
+            "{OPTIONS_FILE} {} fmax, {SCENE_FILE} {} a residual flexibility",
+            if options.fmax.is_some() {
+                "gives"
+            } else {
+                "has no"
+            },
+            if scene.residual.is_some() {
+                "holds"
+            } else {
+                "has no"
+            }
+        )));
+    }
     Ok(Resources {
         scene,
-        guid: guid(&body_bytes, &coords_bytes, &options_text),
+        guid: guid(stored.checksum, &options_text),
         options,
     })
 }

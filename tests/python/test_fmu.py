@@ -155,7 +155,7 @@ def test_archive_layout_and_documentation(packed, body):
         assert z.testzip() is None
         html = z.read("documentation/index.html").decode()
     assert {"modelDescription.xml", f"binaries/linux64/{md.coSimulation.modelIdentifier}.so",
-            "resources/body.fxb", "resources/coords.csv", "resources/scene.txt",
+            "resources/scene.fxs", "resources/scene.txt",
             "documentation/index.html"} <= names
     assert all(f"<td>{v.name}</td>" in html for v in md.modelVariables)
     block = html.split("Eigenfrequencies of the local modes (Hz)</h2>\n<p>")[1].split("</p>")[0]

@@ -1,5 +1,5 @@
 //! `fxbody pack FILE -o OUT.fmu [--coords DECK|CSV] [--nodes ID,...] [--name NAME]
-//! [--units NAME] [--lib PATH] [--nodes-file FILE] [--fmax HZ|auto]`: a flexible body as
+//! [--units NAME] [--lib PATH] [--nodes-file FILE] [--fmax HZ|auto] [--embed-source]`: a flexible body as
 //! an FMI 2.0 co-simulation FMU.
 
 use std::path::PathBuf;
@@ -41,6 +41,10 @@ pub struct PackArgs {
     /// executable).
     #[arg(long)]
     pub lib: Option<PathBuf>,
+    /// Also store the body file in the FMU (resources/source.fxb), for traceability
+    /// only: the FMU runs from its scene file, sized to the exposed nodes.
+    #[arg(long)]
+    pub embed_source: bool,
 }
 
 /// Run `pack`: a one-line summary on stdout, or the error message.
@@ -71,6 +75,7 @@ pub fn run(args: &PackArgs) -> Result<(), String> {
         nodes,
         name: args.name.clone(),
         units: args.units.clone(),
+        embed_source: args.embed_source,
     };
     let p = pack_with(&req, fmax, &lib, &args.output).map_err(|e| e.to_string())?;
     for n in &p.notes {

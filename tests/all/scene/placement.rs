@@ -8,8 +8,8 @@ use std::process::Command;
 
 use crate::common::root;
 
-use fxbody::fmu::pack::{PackRequest, prepare};
-use fxbody::fmu::scene_io::{BODY_FILE, COORDS_FILE, OPTIONS_FILE, load_resources};
+use fxbody::fmu::pack::{PackRequest, prepare, resource_entries};
+use fxbody::fmu::scene_io::{SCENE_FILE, load_resources};
 use fxbody::fxb;
 
 const BODY: &str = "body_b0_r1_d0.fxb";
@@ -119,9 +119,9 @@ fn shifted_deck_places_the_origin_and_the_fmu_keeps_deck_positions() {
     // The FMU reads resources/ back: write them and reload as an instance does.
     let res = d.join("resources");
     std::fs::create_dir_all(&res).unwrap();
-    std::fs::write(res.join(BODY_FILE), &p.body_bytes).unwrap();
-    std::fs::write(res.join(COORDS_FILE), &p.coords_csv).unwrap();
-    std::fs::write(res.join(OPTIONS_FILE), &p.options_text).unwrap();
+    for e in resource_entries(&p) {
+        std::fs::write(d.join(&e.name), &e.data).unwrap();
+    }
     let r = load_resources(&res).unwrap();
     assert_eq!(r.guid, p.guid);
     let want = positions_from_file();
@@ -138,16 +138,17 @@ fn shifted_deck_places_the_origin_and_the_fmu_keeps_deck_positions() {
             }
         }
     }
-    // A tampered coords.csv inside the FMU is refused at load too.
-    // Node 12 moved by 1 along x.
-    let bad: String = p.coords_csv.replacen("\n12,11.", "\n12,12.", 1);
-    assert_ne!(bad, p.coords_csv);
-    std::fs::write(res.join(COORDS_FILE), bad).unwrap();
+    // A tampered scene file inside the FMU is refused at load too (the coordinates are
+    // in it since issue 16; the checksum catches any change). The last coordinate of
+    // the NODE section (the 2nd section, after BODY's 16 + 152 bytes) moved by 1.
+    let mut bad = p.scene_file.clone();
+    let m = p.scene.nodes.len();
+    let at = 32 + 16 + 152 + 16 + 8 * m + 8 * (3 * m - 1);
+    let x = f64::from_le_bytes(bad[at..at + 8].try_into().unwrap());
+    bad[at..at + 8].copy_from_slice(&(x + 1.0).to_le_bytes());
+    std::fs::write(res.join(SCENE_FILE), bad).unwrap();
     let e = load_resources(&res).err().unwrap().to_string();
-    assert!(
-        e.contains("coords.csv: node") && e.contains("rigid modes"),
-        "{e}"
-    );
+    assert!(e.contains("scene.fxs: checksum mismatch"), "{e}");
     std::fs::remove_dir_all(&d).ok();
 }
 

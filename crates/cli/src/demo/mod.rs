@@ -108,6 +108,7 @@ pub fn run(args: &DemoArgs) -> Result<(), String> {
         nodes: Some(vec![r.tip]),
         name: Some("cantilever".into()),
         units: Some("SI".into()),
+        ..PackRequest::default()
     };
     let p = pack(&req, &lib, &fmu).map_err(|e| e.to_string())?;
     let size = std::fs::metadata(&fmu).map(|m| m.len()).unwrap_or(0);
