@@ -2,10 +2,15 @@
 //! solver state or in an output a master can read is refused, and the instance keeps its
 //! state from before the step ("right or loud").
 //!
-//! Before each step the solver state is saved into a reused buffer (no allocation once
-//! it has held one state). After the step the guard checks the solver state (it holds
-//! everything the future depends on) and the outputs: node positions, velocities and
-//! both energies. The outputs are checked as well as the state because
+//! The guard holds two state buffers and copies the solver state once per step: after
+//! the step, into the second buffer, which the check then reads. An accepted step swaps
+//! the two (double buffering): the state after step k is the saved state before step k+1,
+//! so no save runs before a step unless something else changed the solver in between
+//! (building it, restoring an FMU state, passing loads to read a truncated scene's
+//! outputs), which the model reports with [`StepGuard::forget`]. The buffers are reused:
+//! no allocation once each has held one state. After the step the guard checks the
+//! solver state (it holds everything the future depends on) and the outputs: node
+//! positions, velocities and both energies. The outputs are checked as well as the state because
 //! a finite state does not make them finite: they are sums of products of the state
 //! with the body's matrices (and, for a truncated body, with the loads themselves), which
 //! can overflow. On failure the saved state is put back and the message names the first
@@ -18,8 +23,13 @@ use crate::solver::{Method, Solver, SolverError, State};
 
 /// The rollback buffer and output workspace of one instance.
 pub struct StepGuard {
+    /// The solver state before the coming step (valid when `saved_is_current`).
     saved: State,
+    /// The solver state after the last step, checked by [`StepGuard::check`].
     after: State,
+    /// `saved` equals the solver's current state: the last step was accepted (or rolled
+    /// back) and nothing has changed the solver since.
+    saved_is_current: bool,
     out: Vec<f64>,
     /// Below this magnitude of every state entry and input, every checked output is
     /// certainly finite ([`output_bound`]): the outputs need not be computed.
@@ -77,35 +87,66 @@ impl StepGuard {
                 method: Method::Exact,
                 data: Vec::new(),
             },
+            saved_is_current: false,
             out: vec![0.0; 3 * nodes],
         }
     }
 
-    /// Save the solver's state before a step.
+    /// The solver was changed outside a step (built, restored, given loads): the next
+    /// [`StepGuard::save`] copies its state again.
+    #[inline]
+    pub fn forget(&mut self) {
+        self.saved_is_current = false;
+    }
+
+    /// Make sure the solver's state before a step is saved: a copy only when something
+    /// changed the solver since the last accepted step (see the module notes).
+    #[inline]
     pub fn save(&mut self, s: &dyn Solver) {
-        s.state_into(&mut self.saved);
+        if !self.saved_is_current {
+            s.state_into(&mut self.saved);
+            self.saved_is_current = true;
+        }
     }
 
     /// Put back the state saved by [`StepGuard::save`].
-    pub fn rollback(&self, s: &mut dyn Solver) -> Result<(), SolverError> {
-        s.set_state(&self.saved)
+    pub fn rollback(&mut self, s: &mut dyn Solver) -> Result<(), SolverError> {
+        let restored = s.set_state(&self.saved);
+        self.saved_is_current = restored.is_ok();
+        restored
     }
 
-    /// The first non-finite value after a step, named for the master; `None` when every
-    /// checked value is finite. `inputs` is the largest magnitude the loads reach over the
-    /// step (held value plus rate times step).
-    pub fn first_non_finite(
+    /// Check the step of `h` just taken under `loads` and `rates` (`rates_on`: some rate
+    /// is nonzero): the first non-finite value, named for the master, or `None` when
+    /// every checked value is finite, in which case the step is accepted and its state
+    /// becomes the saved one for the next step.
+    pub fn check(
         &mut self,
         s: &dyn Solver,
         table: &VarTable,
-        inputs: f64,
+        (loads, rates, rates_on): (&[f64], &[f64], bool),
+        h: f64,
     ) -> Option<String> {
         s.state_into(&mut self.after);
-        // `NaN < bound` is false: a NaN anywhere takes the full check.
         let b = self.bound;
-        if inputs < b && self.after.data.iter().all(|x| x.abs() < b) {
-            return None;
+        let bad =
+            if inputs_below(loads, rates, rates_on, h, b) && squares_below(&self.after.data, b) {
+                None
+            } else {
+                self.first_non_finite(s, table)
+            };
+        if bad.is_none() {
+            std::mem::swap(&mut self.saved, &mut self.after);
+            self.saved_is_current = true;
         }
+        bad
+    }
+
+    /// The full check of the outputs and of the state in `self.after`, for a step whose
+    /// state or inputs reach the bound.
+    #[cold]
+    #[inline(never)]
+    fn first_non_finite(&mut self, s: &dyn Solver, table: &VarTable) -> Option<String> {
         let named = |kind: Kind| {
             table
                 .vars
@@ -148,6 +189,54 @@ impl StepGuard {
         let k = self.after.data.iter().position(|x| !x.is_finite());
         Some(format!("solver state entry {}", k.unwrap_or(0)))
     }
+}
+
+/// Whether every entry of `data` is certainly below `bound` in magnitude: the sum of
+/// their squares is below `bound^2` (NaN or overflow to infinity compare false). Stricter
+/// than testing each entry by at most a factor `sqrt(data.len())`, which only sends a
+/// step that is already near the bound to the full check. Eight accumulators, read eight
+/// entries at a time, so that the loop vectorises into independent sums (no long chain of
+/// dependent additions): the whole state is read on every step.
+#[inline]
+fn squares_below(data: &[f64], bound: f64) -> bool {
+    let mut acc = [0.0f64; 8];
+    let mut chunks = data.chunks_exact(8);
+    for c in &mut chunks {
+        for k in 0..8 {
+            acc[k] += c[k] * c[k];
+        }
+    }
+    let mut sum: f64 = acc.iter().sum();
+    for x in chunks.remainder() {
+        sum += x * x;
+    }
+    sum < bound * bound
+}
+
+/// Whether any rate is nonzero (`-0.0` counts as zero, as `r != 0.0` does): an OR of the
+/// bit patterns without the sign bit, which vectorises.
+#[inline]
+pub fn any_nonzero(rates: &[f64]) -> bool {
+    rates.iter().fold(0u64, |bits, r| bits | (r.to_bits() << 1)) != 0
+}
+
+/// Whether the loads stay certainly below `bound` in magnitude over a step of `h`: held
+/// value plus rate times step, as a sum of squares like [`squares_below`]; the held
+/// values alone when no rate is on. Loads and rates are finite (checked when set).
+#[inline]
+fn inputs_below(loads: &[f64], rates: &[f64], rates_on: bool, h: f64, bound: f64) -> bool {
+    if !rates_on {
+        return squares_below(loads, bound);
+    }
+    let sum: f64 = loads
+        .iter()
+        .zip(rates)
+        .map(|(l, r)| {
+            let x = l.abs() + r.abs() * h;
+            x * x
+        })
+        .sum();
+    sum < bound * bound
 }
 
 /// The input with the largest magnitude, loads and input rates, as `name = value`: the
@@ -243,5 +332,62 @@ mod tests {
             fast > 0 && slow > 0 && refused > 0,
             "{fast} {slow} {refused}"
         );
+    }
+
+    /// Double buffering keeps its promise: wherever the solver changed between steps
+    /// (loads passed to read a truncated scene's outputs, an FMU state restored, a
+    /// method changed), a refused step still leaves the model exactly as before it, and
+    /// accepted steps equal a twin's whose guard saved the state before every step.
+    #[test]
+    fn a_refused_step_restores_after_any_change_between_steps() {
+        let full = crate::fmu::scene_io::cantilever_tip_scene();
+        let (cut, _) = full.truncated(40.0).unwrap();
+        for scene in [full, cut] {
+            let mut m = Model::new(scene.clone(), "{g}".into());
+            let mut twin = Model::new(scene, "{g}".into());
+            let vr = |name: &str| m.table.vars.iter().find(|v| v.name == name).unwrap().vr;
+            let (fy, y) = (vr("node_121.fy"), vr("node_121.y"));
+            for x in [&mut m, &mut twin] {
+                x.setup(0.0, None).unwrap();
+                x.ensure_solver().unwrap();
+            }
+            let h = 1e-3;
+            let mut out = [0.0];
+            let mut older = m.snapshot(0);
+            for k in 0..12 {
+                let f = (k as f64).sin();
+                match k % 4 {
+                    // Reading a truncated scene's position passes the loads to the solver.
+                    1 => {
+                        m.set_reals(&[fy], &[f], Phase::Running).unwrap();
+                        m.get_reals(&[y], &mut out).unwrap();
+                    }
+                    // Back to a state of two steps ago, in both.
+                    2 => {
+                        m.restore(&older).unwrap();
+                        twin.restore(&older).unwrap();
+                    }
+                    _ => older = m.snapshot(0),
+                }
+                for x in [&mut m, &mut twin] {
+                    x.set_reals(&[fy], &[f], Phase::Running).unwrap();
+                }
+                let t = m.time();
+                // A huge load is refused and leaves everything as it was.
+                let before = m.snapshot(0);
+                m.set_reals(&[fy], &[f64::MAX], Phase::Running).unwrap();
+                assert!(m.do_step(t, h).is_err());
+                m.set_reals(&[fy], &[f], Phase::Running).unwrap();
+                assert_eq!(m.snapshot(0), before, "step {k}");
+                // The twin never saw a refused step or a read, and its guard copies the
+                // state before every step (a restore makes it forget the buffer).
+                let s = twin.snapshot(0);
+                twin.restore(&s).unwrap();
+                m.do_step(t, h).unwrap();
+                twin.do_step(t, h).unwrap();
+                let (a, b) = (m.snapshot(0), twin.snapshot(0));
+                assert_eq!(a.solver, b.solver, "step {k}");
+            }
+        }
     }
 }

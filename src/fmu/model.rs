@@ -5,7 +5,7 @@
 
 use std::path::Path;
 
-use super::guard::{StepGuard, largest_input};
+use super::guard::{StepGuard, any_nonzero, largest_input};
 pub use super::model_error::{ModelError, StepRefused, TimeError};
 use super::scene_io::{ResourceError, Resources, load_resources};
 use super::snapshot::Snapshot;
@@ -118,10 +118,18 @@ impl Model {
 
     /// Build the solver if none exists or a parameter changed. Returns a description
     /// of what was built, for the solver log category.
+    #[inline]
     pub fn ensure_solver(&mut self) -> Result<Option<String>, ModelError> {
         if self.solver.is_some() && !self.dirty {
             return Ok(None);
         }
+        self.build_solver()
+    }
+
+    /// The build behind [`Model::ensure_solver`], out of the step's way.
+    #[cold]
+    #[inline(never)]
+    fn build_solver(&mut self) -> Result<Option<String>, ModelError> {
         let s = solver::build(&self.scene, self.method, &self.opts).map_err(|source| {
             ModelError::Build {
                 method: method_name(self.method),
@@ -129,6 +137,7 @@ impl Model {
             }
         })?;
         self.solver = Some(s);
+        self.guard.forget();
         self.dirty = false;
         self.loads_dirty = true;
         self.rates_applied = true;
@@ -141,11 +150,15 @@ impl Model {
         )))
     }
 
+    #[inline]
     fn var(&self, vr: u32) -> Result<&super::vars::Variable, ModelError> {
-        self.table.get(vr).ok_or(ModelError::UnknownReference {
-            vr,
-            count: self.table.vars.len(),
-        })
+        match self.table.get(vr) {
+            Some(var) => Ok(var),
+            None => Err(ModelError::UnknownReference {
+                vr,
+                count: self.table.vars.len(),
+            }),
+        }
     }
 
     /// Whether [`Model::set_real`] would accept `v` for `vr`, without changing anything.
@@ -179,8 +192,9 @@ impl Model {
         for (&r, &v) in vrs.iter().zip(vals) {
             self.check_real(r, v, phase)?;
         }
+        // Every value passed the check: each is checked once per call, not again here.
         for (&r, &v) in vrs.iter().zip(vals) {
-            self.set_real(r, v, phase)?;
+            self.apply_real(r, v);
         }
         Ok(())
     }
@@ -188,7 +202,16 @@ impl Model {
     /// Set a Real variable.
     pub fn set_real(&mut self, vr: u32, v: f64, phase: Phase) -> Result<(), ModelError> {
         self.check_real(vr, v, phase)?;
-        let var = self.var(vr)?;
+        self.apply_real(vr, v);
+        Ok(())
+    }
+
+    /// Store `v` in the Real variable `vr`, which [`Model::check_real`] accepted.
+    #[inline]
+    fn apply_real(&mut self, vr: u32, v: f64) {
+        let Some(var) = self.table.get(vr) else {
+            return;
+        };
         match var.kind {
             Kind::RhoInf => {
                 self.opts.rho_inf = v;
@@ -215,7 +238,6 @@ impl Model {
             }
             _ => unreachable!("check_settable refuses outputs"),
         }
-        Ok(())
     }
 
     /// Set Integer variables: all or none, like [`Model::set_reals`].
@@ -276,6 +298,7 @@ impl Model {
             && let Some(s) = self.solver.as_mut()
         {
             s.set_loads(&self.loads)?;
+            self.guard.forget();
             self.loads_dirty = false;
         }
         let Some(s) = self.solver.as_ref() else {
@@ -426,23 +449,26 @@ impl Model {
             return Err(ModelError::NoSolver);
         };
         // The state before the step, put back if the step fails or leaves a non-finite
-        // number anywhere (guard.rs): a refused step changes nothing.
+        // number anywhere (guard.rs): a refused step changes nothing. After an accepted
+        // step the guard already holds it, and this copies nothing.
         self.guard.save(s.as_ref());
+        let rates_on = any_nonzero(&self.rates);
         let stepped = step_solver(
             s.as_mut(),
             h,
             &self.loads,
             &self.rates,
-            self.loads_dirty,
-            self.rates_applied,
+            self.loads_dirty || self.rates_applied || rates_on,
+            rates_on || self.rates_applied,
         );
         let bad = match stepped {
             Ok(()) => self
                 .guard
-                .first_non_finite(
+                .check(
                     s.as_ref(),
                     &self.table,
-                    input_magnitude(&self.loads, &self.rates, h),
+                    (&self.loads, &self.rates, rates_on),
+                    h,
                 )
                 .map(|what| {
                     let cause = SolverError::NonFinite {
@@ -463,19 +489,8 @@ impl Model {
             Err(e) => Some((e, None)),
         };
         if let Some((cause, largest_input)) = bad {
-            // The solver gets the loads and rates again at the next step.
-            let restored = self.guard.rollback(s.as_mut());
-            self.loads_dirty = true;
-            self.rates_applied = true;
-            return Err(ModelError::StepRefused(Box::new(StepRefused {
-                t,
-                h,
-                cause,
-                largest_input,
-                restored,
-            })));
+            return Err(self.refuse(t, h, cause, largest_input));
         }
-        let rates_on = self.rates.iter().any(|&r| r != 0.0);
         self.loads_dirty = false;
         self.rates_applied = rates_on;
         if rates_on {
@@ -485,6 +500,32 @@ impl Model {
         // Adopt the master's time so that round-off does not accumulate against it.
         self.time = t + h;
         Ok(warning)
+    }
+
+    /// Put the state from before a refused step back and say why it was refused.
+    #[cold]
+    #[inline(never)]
+    fn refuse(
+        &mut self,
+        t: f64,
+        h: f64,
+        cause: SolverError,
+        largest_input: Option<String>,
+    ) -> ModelError {
+        let restored = match self.solver.as_mut() {
+            Some(s) => self.guard.rollback(s.as_mut()),
+            None => Ok(()),
+        };
+        // The solver gets the loads and rates again at the next step.
+        self.loads_dirty = true;
+        self.rates_applied = true;
+        ModelError::StepRefused(Box::new(StepRefused {
+            t,
+            h,
+            cause,
+            largest_input,
+            restored,
+        }))
     }
 
     /// Back to the state after instantiation (fmi2Reset).
@@ -536,6 +577,8 @@ impl Model {
     }
 
     fn restore_unchecked(&mut self, snap: &Snapshot) -> Result<(), ModelError> {
+        // The solver's state changes below: the guard saves it again before the next step.
+        self.guard.forget();
         if snap.loads.len() != self.loads.len() || snap.rates.len() != self.rates.len() {
             return Err(ModelError::StateLoads {
                 held: snap.loads.len(),
@@ -581,21 +624,22 @@ impl Model {
     }
 }
 
-/// Pass the loads and rates when they changed (both make the solver re-project the
-/// loads onto the modes) and advance the solver by `h`.
+/// Pass the loads when `pass_loads` (they changed, or rates are or were on: both make
+/// the solver re-project the loads onto the modes), the rates when `pass_rates`, and
+/// advance the solver by `h`.
+#[inline]
 fn step_solver(
     s: &mut dyn Solver,
     h: f64,
     loads: &[f64],
     rates: &[f64],
-    loads_dirty: bool,
-    rates_applied: bool,
+    pass_loads: bool,
+    pass_rates: bool,
 ) -> Result<(), SolverError> {
-    let rates_on = rates.iter().any(|&r| r != 0.0);
-    if loads_dirty || rates_applied || rates_on {
+    if pass_loads {
         s.set_loads(loads)?;
     }
-    if rates_on || rates_applied {
+    if pass_rates {
         s.set_load_rates(rates)?;
     }
     s.step(h)
@@ -609,13 +653,4 @@ fn check_settable(var: &super::vars::Variable, phase: Phase) -> Result<(), Model
         (Causality::Parameter, Phase::Running) => Err(ModelError::FixedParameter(var.name.clone())),
         _ => Ok(()),
     }
-}
-
-/// The largest magnitude the loads reach over a step of `h`: held value plus rate times
-/// step (the step guard's input bound).
-fn input_magnitude(loads: &[f64], rates: &[f64], h: f64) -> f64 {
-    loads
-        .iter()
-        .zip(rates)
-        .fold(0.0, |m: f64, (l, r)| m.max(l.abs() + r.abs() * h))
 }

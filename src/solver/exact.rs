@@ -239,8 +239,8 @@ impl Solver for Exact {
         data.clear();
         data.push(self.time);
         self.io.save(data);
-        data.extend(self.y.iter());
-        data.extend(self.yd.iter());
+        data.extend_from_slice(self.y.as_slice());
+        data.extend_from_slice(self.yd.as_slice());
     }
 
     fn set_state(&mut self, state: &State) -> Result<(), SolverError> {

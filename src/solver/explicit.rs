@@ -258,9 +258,9 @@ impl Solver for Explicit {
         data.push(self.time);
         self.io.save(data);
         data.push(self.dt1);
-        data.extend(self.q.iter());
-        data.extend(self.vh.iter());
-        data.extend(self.fend.iter());
+        data.extend_from_slice(self.q.as_slice());
+        data.extend_from_slice(self.vh.as_slice());
+        data.extend_from_slice(self.fend.as_slice());
     }
 
     fn set_state(&mut self, state: &State) -> Result<(), SolverError> {

@@ -268,9 +268,9 @@ impl Solver for Implicit {
         data.push(self.time);
         self.io.save(data);
         data.push(if self.started { 1.0 } else { 0.0 });
-        data.extend(self.y.iter());
-        data.extend(self.v.iter());
-        data.extend(self.a.iter());
+        data.extend_from_slice(self.y.as_slice());
+        data.extend_from_slice(self.v.as_slice());
+        data.extend_from_slice(self.a.as_slice());
     }
 
     fn set_state(&mut self, state: &State) -> Result<(), SolverError> {
