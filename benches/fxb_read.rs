@@ -12,7 +12,8 @@
 //! `fxbody info` command itself when target/release/fxbody is built. Each is timed three
 //! times, best kept, wall and CPU (the machine is shared: CPU time says what the reader
 //! costs, wall time what a user waits). The fast and exact readings are checked equal bit
-//! for bit. Run with `cargo bench --bench fxb_read`.
+//! for bit. Run with `cargo bench --bench fxb_read`; `FXB_READ_BEFORE=/path/to/fxbody` also
+//! times that build's `info` in the same run.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
@@ -158,6 +159,20 @@ fn run(path: &Path) {
         line("fxbody info (the command)", t);
         t
     });
+    // Another build of the command (FXB_READ_BEFORE=path, e.g. one built from an older
+    // commit), timed in the same run for a before/after figure.
+    if let Some(before) = std::env::var_os("FXB_READ_BEFORE") {
+        let (t, ok) = best(|| {
+            Command::new(&before)
+                .arg("info")
+                .arg(path)
+                .stdout(Stdio::null())
+                .status()
+                .is_ok_and(|s| s.success())
+        });
+        assert!(ok, "FXB_READ_BEFORE info failed");
+        line("FXB_READ_BEFORE info", t);
+    }
     println!(
         "  {} nodes, {} modes; identical bits fast vs exact: yes",
         body.node_ids.len(),
