@@ -40,14 +40,18 @@ impl Progress {
         .progress_chars("=> ");
         bar.set_style(style);
         bar.set_message("reading");
-        let shower = std::io::stderr().is_terminal().then(|| {
+        let delay = delay();
+        let terminal = std::io::stderr().is_terminal();
+        if terminal && delay.is_zero() {
+            // Due at once: shown here, not by a thread that the work might outrun.
+            show(&bar);
+        }
+        let shower = (terminal && !delay.is_zero()).then(|| {
             let (done, wait) = mpsc::channel::<()>();
             let shown = bar.clone();
-            let delay = delay();
             let thread = std::thread::spawn(move || {
                 if wait.recv_timeout(delay) == Err(RecvTimeoutError::Timeout) {
-                    shown.set_draw_target(ProgressDrawTarget::stderr());
-                    shown.enable_steady_tick(Duration::from_millis(100));
+                    show(&shown);
                     // Until the work is done (the sender is dropped).
                     let _ = wait.recv();
                 }
@@ -65,6 +69,12 @@ impl Progress {
             self.bar.set_message(self.after);
         }
     }
+}
+
+/// Draw `bar` on stderr from now on, redrawn ten times a second.
+fn show(bar: &ProgressBar) {
+    bar.set_draw_target(ProgressDrawTarget::stderr());
+    bar.enable_steady_tick(Duration::from_millis(100));
 }
 
 impl Drop for Progress {
