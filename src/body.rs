@@ -11,7 +11,7 @@ mod modal;
 pub mod placement;
 
 pub use checks::{BodyError, MAX_LOCAL_MODES};
-pub use load::{LoadError, load, load_with_bytes};
+pub use load::{LoadError, load, load_reporting, load_with_bytes};
 pub use modal::Modal;
 
 /// Rayleigh damping `C_L = alpha diag(m_L) + beta K_L` (block 4); zero when absent.

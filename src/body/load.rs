@@ -41,9 +41,22 @@ pub fn load(path: &Path) -> Result<Body, LoadError> {
 /// [`load`], also returning the file's bytes: the packer stores them unchanged in the
 /// FMU and hashes them into the GUID, and the FMU hashes them again at instantiation.
 pub fn load_with_bytes(path: &Path) -> Result<(Body, Vec<u8>), LoadError> {
+    load_reporting(path, &mut |_, _| {})
+}
+
+/// [`load_with_bytes`], telling `progress` (bytes parsed, total bytes) about every MiB
+/// while the file is parsed, so that a command can draw a progress bar for a large body.
+pub fn load_reporting(
+    path: &Path,
+    progress: &mut dyn FnMut(u64, u64),
+) -> Result<(Body, Vec<u8>), LoadError> {
     let name = path.display().to_string();
     let bytes = fxb::read_bytes(path)?;
-    let file = fxb::parse(&bytes, &name)?;
+    let how = fxb::Reading {
+        progress: Some(progress),
+        ..fxb::Reading::default()
+    };
+    let file = fxb::parse_with(&bytes, &name, how)?;
     let body = Body::from_fxb(&file, &name)?;
     Ok((body, bytes))
 }
@@ -89,6 +102,7 @@ mod tests {
             include_str!("../fxb/mod.rs"),
             include_str!("../fxb/coords.rs"),
             include_str!("../fxb/error.rs"),
+            include_str!("../fxb/fast.rs"),
             include_str!("../fxb/fields.rs"),
             include_str!("../fxb/input.rs"),
             include_str!("../fxb/reader.rs"),

@@ -213,8 +213,18 @@ pub enum Fmax {
 /// (here and in the FMU, from the full file) keeps the modes up to it plus the residual
 /// flexibility of the rest ([`crate::reduce`]).
 pub fn prepare_with(req: &PackRequest, fmax: Option<Fmax>) -> Result<Prepared, PackError> {
+    prepare_reporting(req, fmax, &mut |_, _| {})
+}
+
+/// [`prepare_with`], telling `progress` (bytes parsed, total) while the body file is
+/// read ([`body::load_reporting`]).
+pub fn prepare_reporting(
+    req: &PackRequest,
+    fmax: Option<Fmax>,
+    progress: &mut dyn FnMut(u64, u64),
+) -> Result<Prepared, PackError> {
     let body_name = req.body.display().to_string();
-    let (body, body_bytes) = body::load_with_bytes(&req.body)?;
+    let (body, body_bytes) = body::load_reporting(&req.body, progress)?;
     let mut notes: Vec<String> = body
         .warnings
         .iter()
@@ -518,12 +528,23 @@ pub fn pack_with(
     lib: &Path,
     out: &Path,
 ) -> Result<Prepared, PackError> {
+    pack_reporting(req, fmax, lib, out, &mut |_, _| {})
+}
+
+/// [`pack_with`], telling `progress` (bytes parsed, total) while the body file is read.
+pub fn pack_reporting(
+    req: &PackRequest,
+    fmax: Option<Fmax>,
+    lib: &Path,
+    out: &Path,
+    progress: &mut dyn FnMut(u64, u64),
+) -> Result<Prepared, PackError> {
     let mut inputs: Vec<(&str, &Path)> = vec![("body file", &req.body), ("library", lib)];
     if let Some(c) = &req.coords {
         inputs.push(("coordinate file", c));
     }
     refuse_overwrite(out, &inputs)?;
-    let p = prepare_with(req, fmax)?;
+    let p = prepare_reporting(req, fmax, progress)?;
     let lib_bytes = std::fs::read(lib).map_err(|source| PackError::ReadLib {
         path: lib.to_path_buf(),
         source,

@@ -91,7 +91,123 @@ pub fn parse_int(text: &[u8]) -> Option<i64> {
 /// sign, digits with an optional decimal point, and an optional exponent written
 /// `E`/`D` (either case) with optional sign, or just a sign (`1.0-3` is 1.0e-3).
 /// Non-finite results (overflow, `NaN`, `Inf`) are rejected: the file must hold numbers.
+///
+/// Text already in Rust's own syntax (no `D`, no letterless exponent) is read by
+/// [`plain_real`]; the rest is rewritten into that syntax and given to `str::parse`. Both
+/// are correctly rounded values of the same decimal number, so they agree bit for bit
+/// (tested).
 pub fn parse_real(text: &[u8]) -> Option<f64> {
+    match plain_real(text) {
+        (len, value) if len == text.len() => value,
+        _ => parse_real_rewritten(text),
+    }
+}
+
+/// The real in Rust's own syntax (`[+-] digits [. digits] [e|E [+-] digits]`, at least
+/// one mantissa digit) at the start of `text`: the length of that prefix (0 if none; a
+/// bare exponent letter, `1.0E`, is not part of it) and its value (`None` if not finite).
+///
+/// The value is correctly rounded: with at most 19 digits, a mantissa below 2^53 and a
+/// power of ten at most 22 in size, both factors are exact doubles and one IEEE
+/// multiplication or division rounds their product once (Clinger's fast path, the one
+/// `str::parse` itself takes first); any other text goes to `str::parse`.
+pub(crate) fn plain_real(text: &[u8]) -> (usize, Option<f64>) {
+    let neg = text.first() == Some(&b'-');
+    let mut i = usize::from(matches!(text.first(), Some(b'+' | b'-')));
+    let mut mantissa: u64 = 0;
+    let int_digits = digit_run(text, &mut i, &mut mantissa);
+    let mut frac_digits = 0;
+    if text.get(i) == Some(&b'.') {
+        i += 1;
+        frac_digits = digit_run(text, &mut i, &mut mantissa);
+    }
+    let digits = int_digits + frac_digits;
+    let frac_digits = frac_digits as i64;
+    if digits == 0 {
+        return (0, None);
+    }
+    let mut exponent: i64 = 0;
+    if matches!(text.get(i), Some(b'e' | b'E')) {
+        let mut j = i + 1;
+        let exp_neg = text.get(j) == Some(&b'-');
+        if matches!(text.get(j), Some(b'+' | b'-')) {
+            j += 1;
+        }
+        let e0 = j;
+        while let Some(d) = text.get(j).filter(|c| c.is_ascii_digit()) {
+            exponent = (exponent * 10 + i64::from(d - b'0')).min(1 << 40);
+            j += 1;
+        }
+        if j > e0 {
+            i = j;
+            if exp_neg {
+                exponent = -exponent;
+            }
+        } else {
+            exponent = 0;
+        }
+    }
+    /// Exact powers of ten as doubles.
+    const POW10: [f64; 23] = [
+        1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16,
+        1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
+    ];
+    let power = exponent - frac_digits;
+    let value = if digits <= 19 && mantissa < 1 << 53 && power.abs() <= 22 {
+        // Exact: the mantissa converts without rounding, the power is exact.
+        let m = mantissa as f64;
+        let p = POW10[power.unsigned_abs() as usize];
+        let v = if power < 0 { m / p } else { m * p };
+        Some(if neg { -v } else { v })
+    } else {
+        std::str::from_utf8(&text[..i])
+            .ok()
+            .and_then(|t| t.parse::<f64>().ok())
+    };
+    (i, value.filter(|v| v.is_finite()))
+}
+
+/// Read the digits of `text` from `*i` on into `mantissa` (`mantissa * 10 + d` each,
+/// wrapping: only trusted for 19 digits or fewer), moving `*i` past them; their count.
+/// Eight digits at a time where eight follow (the usual 9-digit fraction of a
+/// `%16.9E` number takes one step and one digit).
+fn digit_run(text: &[u8], i: &mut usize, mantissa: &mut u64) -> usize {
+    let start = *i;
+    while let Some(chunk) = text.get(*i..*i + 8) {
+        let v = u64::from_le_bytes(chunk.try_into().unwrap_or([0; 8]));
+        // Each byte is a digit when it is >= '0' and adding 0x46 keeps it below 0x80.
+        let is_digits = (v.wrapping_add(0x4646_4646_4646_4646)
+            | v.wrapping_sub(0x3030_3030_3030_3030))
+            & 0x8080_8080_8080_8080
+            == 0;
+        if !is_digits {
+            break;
+        }
+        *mantissa = mantissa
+            .wrapping_mul(100_000_000)
+            .wrapping_add(eight_digits(v));
+        *i += 8;
+    }
+    while let Some(d) = text.get(*i).filter(|c| c.is_ascii_digit()) {
+        *mantissa = mantissa.wrapping_mul(10).wrapping_add(u64::from(d - b'0'));
+        *i += 1;
+    }
+    *i - start
+}
+
+/// The value of eight ASCII digits read little-endian into `v` (the first digit in the
+/// low byte): pairs, then fours, then the eight, by multiply-and-shift.
+fn eight_digits(v: u64) -> u64 {
+    let v = v - 0x3030_3030_3030_3030;
+    let v = (v * 10) + (v >> 8);
+    let pairs_lo = (v & 0x0000_00FF_0000_00FF).wrapping_mul(100 + (1_000_000 << 32));
+    let pairs_hi = ((v >> 16) & 0x0000_00FF_0000_00FF).wrapping_mul(1 + (10_000 << 32));
+    (pairs_lo.wrapping_add(pairs_hi) >> 32) & 0xFFFF_FFFF
+}
+
+/// [`parse_real`] for any Fortran form: the number rewritten into Rust's syntax (a `0`
+/// for missing digits, `e` for the exponent letter or sign), then parsed.
+pub(crate) fn parse_real_rewritten(text: &[u8]) -> Option<f64> {
     let mut i = 0;
     let mut norm = Norm::default();
     if let Some(&s @ (b'+' | b'-')) = text.first() {
@@ -370,25 +486,41 @@ fn read_free<T: FieldValue>(line: &[u8]) -> Result<(Vec<T>, usize), Misread> {
 /// exponent form (`1.0-3`) is never split: `1.0-3-2.0` stays one (invalid) token.
 fn split_touching(tok: &[u8]) -> impl Iterator<Item = &[u8]> {
     let mut start = 0;
-    let mut pieces = Vec::new();
-    for i in 1..tok.len() {
-        if !matches!(tok[i], b'+' | b'-') || !tok[i - 1].is_ascii_digit() {
-            continue;
+    let mut i = 1;
+    let mut done = false;
+    std::iter::from_fn(move || {
+        if done {
+            return None;
         }
-        let mut j = i - 1;
-        while j > start && tok[j].is_ascii_digit() {
-            j -= 1;
+        while i < tok.len() {
+            let at = i;
+            i += 1;
+            if splits_at(tok, start, at) {
+                let piece = &tok[start..at];
+                start = at;
+                return Some(piece);
+            }
         }
-        if j > start && matches!(tok[j], b'+' | b'-') {
-            j -= 1;
-        }
-        if j > start && matches!(tok[j], b'E' | b'e' | b'D' | b'd') {
-            pieces.push(&tok[start..i]);
-            start = i;
-        }
+        done = true;
+        Some(&tok[start..])
+    })
+}
+
+/// Whether the blank-separated reading splits `text` before position `i`, the current
+/// piece starting at `start` (see [`split_touching`]): a sign after the digits of an
+/// exponent written with a letter. The fast line reader asks the same question.
+pub(crate) fn splits_at(text: &[u8], start: usize, i: usize) -> bool {
+    if !matches!(text[i], b'+' | b'-') || !text[i - 1].is_ascii_digit() {
+        return false;
     }
-    pieces.push(&tok[start..]);
-    pieces.into_iter()
+    let mut j = i - 1;
+    while j > start && text[j].is_ascii_digit() {
+        j -= 1;
+    }
+    if j > start && matches!(text[j], b'+' | b'-') {
+        j -= 1;
+    }
+    j > start && matches!(text[j], b'E' | b'e' | b'D' | b'd')
 }
 
 #[cfg(test)]
@@ -425,6 +557,102 @@ mod tests {
         ] {
             assert_eq!(parse_real(bad.as_bytes()), None, "{bad}");
         }
+    }
+
+    /// The plain-syntax reader gives `str::parse`'s value bit for bit, on both sides of
+    /// every limit of its exact branch and on random numbers of every length and exponent;
+    /// and the rewriting branch of [`parse_real`] agrees with it.
+    #[test]
+    fn plain_reals_are_read_exactly_as_str_parse_reads_them() {
+        let check = |t: &str| {
+            let want = t.parse::<f64>().ok().filter(|v| v.is_finite());
+            let (len, got) = plain_real(t.as_bytes());
+            assert_eq!(len, t.len(), "{t}");
+            assert_eq!(got.map(f64::to_bits), want.map(f64::to_bits), "{t}");
+            let rewritten = parse_real_rewritten(t.as_bytes());
+            assert_eq!(rewritten.map(f64::to_bits), want.map(f64::to_bits), "{t}");
+        };
+        for t in [
+            "9007199254740992",
+            "9007199254740993",
+            "9007199254740995",
+            "1e22",
+            "1e23",
+            "1E-22",
+            "1e-23",
+            "0.1",
+            "-0.0",
+            "+.5",
+            "7.",
+            "1234567890123456789",
+            "12345678901234567890",
+            "0.000000000000000000001",
+            "1.7976931348623157e308",
+            "1.8e308",
+            "4.9e-324",
+            "2.4703282292062327e-324",
+            "-3.784539706E-01",
+            "1.0E+00000000000000000000000001",
+            "1e-99999999999999999999",
+        ] {
+            check(t);
+        }
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        for _ in 0..200_000 {
+            let r = next();
+            let digits = 1 + (r % 22) as usize;
+            let mut t = String::new();
+            if r & (1 << 8) != 0 {
+                t.push('-');
+            }
+            let point = (r >> 9) as usize % (digits + 1);
+            let mut d = next();
+            for k in 0..digits {
+                if k == point {
+                    t.push('.');
+                }
+                t.push(char::from(b'0' + (d % 10) as u8));
+                d /= 10;
+            }
+            if r & (1 << 20) != 0 {
+                let e = (r >> 21) % 80;
+                t.push_str(&format!(
+                    "E{}{e:02}",
+                    if r & (1 << 30) != 0 { '-' } else { '+' }
+                ));
+            }
+            check(&t);
+        }
+        // A bare exponent letter is not part of the number.
+        assert_eq!(plain_real(b"1.0E").0, 3);
+        assert_eq!(plain_real(b"1.0E+").0, 3);
+        assert_eq!(plain_real(b"-.E1"), (0, None));
+    }
+
+    #[test]
+    fn eight_digits_at_once() {
+        for (text, want) in [
+            (b"00000000", 0),
+            (b"12345678", 12_345_678),
+            (b"99999999", 99_999_999),
+            (b"07000001", 7_000_001),
+        ] {
+            assert_eq!(eight_digits(u64::from_le_bytes(*text)), want);
+        }
+        let mut m = 0;
+        let mut i = 0;
+        assert_eq!(digit_run(b"1234567890123x", &mut i, &mut m), 13);
+        assert_eq!((i, m), (13, 1_234_567_890_123));
+        let mut i = 0;
+        assert_eq!(digit_run(b"1234567/9", &mut i, &mut m), 7);
+        let mut i = 0;
+        assert_eq!(digit_run(b"12345678:", &mut i, &mut m), 8);
     }
 
     #[test]

@@ -4,9 +4,13 @@
 
 use std::collections::HashMap;
 
-use super::FxbFile;
 use super::error::{At, Block, FxbError};
-use super::fields::{FieldValue, LineIssue, read_line, shown};
+use super::fast::{self, FastField, MAX_FIELDS};
+use super::fields::{LineIssue, read_line, shown};
+use super::{FxbFile, Reading};
+
+/// Bytes between two progress reports.
+const PROGRESS_STEP: usize = 1 << 20;
 
 /// Values per line in real-valued blocks.
 const REALS_PER_LINE: usize = 5;
@@ -24,7 +28,7 @@ impl<'a> Lines<'a> {
     fn next_data(&mut self) -> Option<(usize, &'a [u8])> {
         while self.pos < self.text.len() {
             let rest = &self.text[self.pos..];
-            let (line, advance) = match rest.iter().position(|&c| c == b'\n') {
+            let (line, advance) = match memchr::memchr(b'\n', rest) {
                 Some(p) => (&rest[..p], p + 1),
                 None => (rest, rest.len()),
             };
@@ -45,12 +49,28 @@ impl<'a> Lines<'a> {
     }
 }
 
-struct Reader<'a> {
+struct Reader<'a, 'p> {
     file: &'a str,
     lines: Lines<'a>,
+    /// Read every line both ways in full (no fast path).
+    exact: bool,
+    /// Told (bytes read, total bytes) every [`PROGRESS_STEP`] bytes.
+    progress: Option<&'p mut dyn FnMut(u64, u64)>,
+    /// The byte offset of the next progress report.
+    next_report: usize,
 }
 
-impl Reader<'_> {
+impl Reader<'_, '_> {
+    /// Tell the progress callback, if any, how far reading has come.
+    fn report(&mut self, force: bool) {
+        if let Some(tell) = self.progress.as_mut()
+            && (force || self.lines.pos >= self.next_report)
+        {
+            tell(self.lines.pos as u64, self.lines.text.len() as u64);
+            self.next_report = self.lines.pos + PROGRESS_STEP;
+        }
+    }
+
     fn at(&self, line: usize, block: Block) -> At {
         At {
             file: self.file.to_string(),
@@ -61,7 +81,7 @@ impl Reader<'_> {
 
     /// Append `count` values to `out`, `per_line` to a line, the last line possibly short.
     /// `what` describes the values for messages (only called on error).
-    fn read_into<T: FieldValue>(
+    fn read_into<T: FastField>(
         &mut self,
         out: &mut Vec<T>,
         block: Block,
@@ -78,20 +98,18 @@ impl Reader<'_> {
                     expected: format!("{left} more value(s) of {}", what()),
                 });
             };
-            let vals = read_line::<T>(line).map_err(|issue| match issue {
-                LineIssue::Unparsable(found) => FxbError::Unparsable {
-                    at: self.at(ln, block),
-                    expected: format!("{} ({})", T::WHAT, what()),
-                    found,
-                },
-                LineIssue::Ambiguous { fixed, free, note } => FxbError::Ambiguous {
-                    at: self.at(ln, block),
-                    fixed,
-                    free,
-                    width: T::WIDTH,
-                    note,
-                },
-            })?;
+            let mut buf = [T::ZERO; MAX_FIELDS];
+            let slow;
+            let vals: &[T] = match (!self.exact)
+                .then(|| fast::read_line(line, &mut buf))
+                .flatten()
+            {
+                Some(n) => &buf[..n],
+                None => {
+                    slow = self.read_full(line, ln, block, what)?;
+                    &slow
+                }
+            };
             if vals.len() > need {
                 return Err(FxbError::TooManyValues {
                     at: self.at(ln, block),
@@ -108,10 +126,35 @@ impl Reader<'_> {
                     what: what(),
                 });
             }
-            out.extend_from_slice(&vals);
+            out.extend_from_slice(vals);
             left -= need;
+            self.report(false);
         }
         Ok(())
+    }
+
+    /// The full two-way reading of one line ([`read_line`]), its issues as errors.
+    fn read_full<T: FastField>(
+        &self,
+        line: &[u8],
+        ln: usize,
+        block: Block,
+        what: &dyn Fn() -> String,
+    ) -> Result<Vec<T>, FxbError> {
+        read_line::<T>(line).map_err(|issue| match issue {
+            LineIssue::Unparsable(found) => FxbError::Unparsable {
+                at: self.at(ln, block),
+                expected: format!("{} ({})", T::WHAT, what()),
+                found,
+            },
+            LineIssue::Ambiguous { fixed, free, note } => FxbError::Ambiguous {
+                at: self.at(ln, block),
+                fixed,
+                free,
+                width: T::WIDTH,
+                note,
+            },
+        })
     }
 
     /// A run of `count` reals, 5 to a line.
@@ -205,8 +248,8 @@ impl Header {
     }
 }
 
-/// Parse the whole text. See [`super::parse`].
-pub fn parse_bytes(text: &[u8], file: &str) -> Result<FxbFile, FxbError> {
+/// Parse the whole text. See [`super::parse_with`].
+pub fn parse_bytes(text: &[u8], file: &str, how: Reading<'_>) -> Result<FxbFile, FxbError> {
     let mut r = Reader {
         file,
         lines: Lines {
@@ -214,6 +257,9 @@ pub fn parse_bytes(text: &[u8], file: &str) -> Result<FxbFile, FxbError> {
             pos: 0,
             line_no: 0,
         },
+        exact: how.exact,
+        progress: how.progress,
+        next_report: 0,
     };
     let b1 = Block::new(1);
     let mut raw: Vec<i64> = Vec::with_capacity(7);
@@ -328,6 +374,7 @@ pub fn parse_bytes(text: &[u8], file: &str) -> Result<FxbFile, FxbError> {
         });
     }
 
+    r.report(true);
     Ok(FxbFile {
         nbmod: nl,
         nbstat: ns,
@@ -352,7 +399,7 @@ pub fn parse_bytes(text: &[u8], file: &str) -> Result<FxbFile, FxbError> {
 }
 
 /// Refuse header counts that the rest of the text cannot hold, before allocating.
-fn too_large(r: &Reader<'_>, h: &Header, line: usize, note: &str) -> Result<(), FxbError> {
+fn too_large(r: &Reader<'_, '_>, h: &Header, line: usize, note: &str) -> Result<(), FxbError> {
     let needed = h.values_needed();
     let available = r.lines.remaining();
     if needed.is_none_or(|v| v > available as u128) {
@@ -370,7 +417,7 @@ fn too_large(r: &Reader<'_>, h: &Header, line: usize, note: &str) -> Result<(), 
 }
 
 /// Check the seven header integers.
-fn header(r: &Reader<'_>, raw: &[i64], line: usize) -> Result<Header, FxbError> {
+fn header(r: &Reader<'_, '_>, raw: &[i64], line: usize) -> Result<Header, FxbError> {
     let at = || r.at(line, Block::new(1));
     let names = ["Nbmod", "Nbstat", "Nbnod", "Irot", "Idamp", "Iblo", "Ifile"];
     let mut counts = [0usize; 3];

@@ -32,7 +32,10 @@ struct Info {
 
 /// Run `info`: the report on stdout, or the error message (for exit code 2).
 pub fn run(args: &InfoArgs) -> Result<(), String> {
-    let body = fxbody::body::load(&args.file).map_err(|e| e.to_string())?;
+    let progress = super::progress::Progress::start("checking");
+    let (body, _) =
+        fxbody::body::load_reporting(&args.file, &mut |done, total| progress.update(done, total))
+            .map_err(|e| e.to_string())?;
     let info = Info {
         nbmod: body.nl(),
         idamp: body.damping.is_some(),
@@ -43,6 +46,7 @@ pub fn run(args: &InfoArgs) -> Result<(), String> {
         mass: body.total_mass(),
         body,
     };
+    drop(progress);
     let out = if args.json {
         json(&info)
     } else {

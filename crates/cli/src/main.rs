@@ -7,6 +7,7 @@ mod import;
 mod info;
 mod info_modes;
 mod pack;
+mod progress;
 mod reduce;
 
 use clap::{Parser, Subcommand};

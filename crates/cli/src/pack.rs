@@ -4,7 +4,7 @@
 
 use std::path::PathBuf;
 
-use fxbody::fmu::pack::{Fmax, PackRequest, find_library, pack_with, refuse_overwrite};
+use fxbody::fmu::pack::{Fmax, PackRequest, find_library, pack_reporting, refuse_overwrite};
 
 /// Arguments of `pack`.
 #[derive(Debug, clap::Args)]
@@ -77,7 +77,12 @@ pub fn run(args: &PackArgs) -> Result<(), String> {
         units: args.units.clone(),
         embed_source: args.embed_source,
     };
-    let p = pack_with(&req, fmax, &lib, &args.output).map_err(|e| e.to_string())?;
+    let progress = super::progress::Progress::start("packing");
+    let p = pack_reporting(&req, fmax, &lib, &args.output, &mut |done, total| {
+        progress.update(done, total)
+    })
+    .map_err(|e| e.to_string())?;
+    drop(progress);
     for n in &p.notes {
         eprintln!("fxbody pack: {n}");
     }

@@ -2,6 +2,7 @@
 //! coordinate readers `fxbody import` uses (`fe`).
 
 mod errors;
+mod fast;
 mod fe;
 mod read;
 mod roundtrip;
