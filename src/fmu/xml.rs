@@ -111,6 +111,7 @@ fn unit(q: Quantity, u: UnitSystem) -> Option<(&'static str, [i32; 3], f64)> {
         (Acceleration, Si) => ("m/s2", [0, 1, -2], 1.0),
         (Acceleration, MmTonneS) => ("mm/s2", [0, 1, -2], 1e-3),
         (AngularVelocity, _) => ("rad/s", [0, 0, -1], 1.0),
+        (Angle, _) => ("rad", [0, 0, 0], 1.0),
         (Energy, Si) => ("J", [1, 2, -2], 1.0),
         (Energy, MmTonneS) => ("mJ", [1, 2, -2], 1e-3),
     })
@@ -165,7 +166,7 @@ pub fn model_description(
                         let _ = write!(base, " {k}=\"{e}\"");
                     }
                 }
-                if name == "rad/s" {
+                if name.starts_with("rad") {
                     base.push_str(" rad=\"1\"");
                 }
                 if factor != 1.0 {
