@@ -384,10 +384,13 @@ impl VarTable {
     }
 
     /// Whether an output depends at the initial instant on `other` (a parameter):
-    /// velocities and kinetic energy of a free body depend on v0 and w0.
+    /// velocities, angular velocities and kinetic energy of a free body depend on v0
+    /// and w0.
     pub fn initial_dependency(&self, output: &Variable, other: &Variable) -> bool {
-        matches!(output.kind, Kind::Velocity { .. } | Kind::KineticEnergy)
-            && matches!(other.kind, Kind::V0(_) | Kind::W0(_))
+        matches!(
+            output.kind,
+            Kind::Velocity { .. } | Kind::AngularVelocity { .. } | Kind::KineticEnergy
+        ) && matches!(other.kind, Kind::V0(_) | Kind::W0(_))
     }
 }
 
