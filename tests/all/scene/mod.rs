@@ -2,6 +2,7 @@
 //! participation figures, and the `pack` options that change the scene.
 
 mod many_instances;
+mod pack_doc;
 mod pack_fmax;
 mod pack_options;
 mod participation;
