@@ -1,6 +1,6 @@
 """`fxbody import` against independent reductions of full FE models (import_models.py):
 a 3D frame bracket reduced in numpy by Guyan and Craig-Bampton, free and clamped, written
-as a real Nastran punch, as Abaqus lines and (committed fixture) by pyNastran; the
+as a real Nastran punch, as Abaqus lines and by pyNastran (its own venv, during the run); the
 written .fxb is read back with fixtures/fxbread.py. Criteria: statics at the interface
 nodes equal to the full model's, frequencies equal to the reduced model's, mass
 properties equal to the full model's, a free body's spin through the FMU against Euler's
@@ -18,13 +18,12 @@ from fmpy import extract
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 import import_models as im  # noqa: E402
-from conftest import EXE, FIXTURES, REPO  # noqa: E402
+from conftest import EXE, FIXTURES, REPO, nastran_python  # noqa: E402
 from slave import Slave  # noqa: E402
 
 sys.path.insert(0, str(FIXTURES))
 import fxbread  # noqa: E402
 
-DATA = REPO / "tests" / "data" / "import"
 IFACE = [105, 108, 110]  # interface nodes of the clamped bracket (node 101 clamped)
 FREE_IFACE = [101, 105, 108, 110]
 
@@ -158,10 +157,17 @@ def test_craig_bampton_clamped_statics_and_frequencies(clamped, tmp_path, fmax):
 
 def test_craig_bampton_written_by_pynastran(clamped, tmp_path):
     """The clamped Craig-Bampton bracket as pyNastran itself writes it (GRID, SPOINT, DMIG
-    large field; tests/data/import/make_pynastran.py), coordinates from its GRID cards."""
+    large field), written during the run by the pyNastran venv (pyn_write.py),
+    coordinates from its GRID cards."""
     ids, xyz, k, m = clamped
     kc, mc, _, _ = im.craig_bampton(k, m, im.dof_index(ids, IFACE), 12)
-    bdf = DATA / "cb_pyn.bdf"
+    np.savez(tmp_path / "cb.npz", KAAX=kc, MAAX=mc, dofs=np.array(im.reduced_dofs(ids, IFACE, 12)),
+             ids=np.array(ids), xyz=xyz)
+    bdf = tmp_path / "cb_pyn.bdf"
+    w = subprocess.run([nastran_python(), str(REPO / "tests" / "python" / "pyn_write.py"),
+                        str(tmp_path / "cb.npz"), str(bdf)], capture_output=True, text=True)
+    assert w.returncode == 0, f"pyNastran could not write the model: {w.stderr}"
+    assert bdf.read_text().startswith("$pyNastran: version="), "not pyNastran's file"
     run_import(bdf, "--coords", bdf, "-o", tmp_path / "p.fxb", "--report", tmp_path / "p.json")
     assert json.loads((tmp_path / "p.json").read_text())["free"] is False
     f = read(tmp_path / "p.fxb")
