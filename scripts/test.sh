@@ -2,7 +2,8 @@
 # The whole test suite: formatting and lints (the workspace's [lints]: unsafe only at the
 # FMI boundary and in the host, every unsafe block with a SAFETY comment, every public
 # item documented), Rust (unit, integration, doc tests of every package) and Python
-# (fixture generator checks, fmpy tests). Creates ./.venv with requirements-test.txt on first use.
+# (fixture generator checks, fmpy tests). Creates ./.venv with requirements-test.txt and
+# ./.venv-nastran with requirements-nastran.txt on first use.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -12,6 +13,14 @@ if [ ! -x .venv/bin/python ] || ! cmp -s requirements-test.txt .venv/.requiremen
     cp requirements-test.txt .venv/.requirements
 fi
 export FXBODY_PYTHON="$PWD/.venv/bin/python"
+# pyNastran needs numpy < 2: a second venv, used only to write the pyNastran fixtures
+# during the run (tests/python/test_import.py, test_fe_fixtures.py).
+if [ ! -x .venv-nastran/bin/python ] || ! cmp -s requirements-nastran.txt .venv-nastran/.requirements; then
+    python3 -m venv .venv-nastran
+    .venv-nastran/bin/pip install --quiet --disable-pip-version-check -r requirements-nastran.txt
+    cp requirements-nastran.txt .venv-nastran/.requirements
+fi
+export FXBODY_NASTRAN_PYTHON="$PWD/.venv-nastran/bin/python"
 
 cargo fmt --all --check
 # --release shares the dependencies' build with the tests below.

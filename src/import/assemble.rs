@@ -11,6 +11,7 @@
 use nalgebra::DMatrix;
 
 use super::Options;
+use super::dense;
 use super::dofs::Reduced;
 use super::modes::Basis;
 use super::report::Report;
@@ -65,11 +66,10 @@ pub fn fxb(
     let phi = &basis.phi;
     let nl = phi.ncols();
     let ns = basis.nbstat;
-    let kphi = &model.k * phi;
-    let mphi = &model.m * phi;
-    let mut k_l = phi.transpose() * &kphi;
-    k_l = (&k_l + k_l.transpose()) * 0.5;
-    let m_ll = phi.transpose() * &mphi;
+    let kphi = dense::mul(&model.k, phi);
+    let mphi = dense::mul(&model.m, phi);
+    let k_l = dense::sym_tr_mul(phi, &kphi);
+    let m_ll = dense::sym_tr_mul(phi, &mphi);
     report.offdiag = offdiag(&m_ll, 0..nl).max(offdiag(&k_l, ns..nl));
     let m_l: Vec<f64> = (0..nl).map(|j| m_ll[(j, j)]).collect();
     let k_full = (0..ns)
@@ -161,21 +161,37 @@ pub fn fxb(
         .flat_map(|i| (i..nr).map(move |j| (i, j)))
         .map(|ij| m_r[ij])
         .collect();
-    let mut m_c = vec![0.0; 9 * nr * nl];
-    let mut k_c = vec![0.0; 9 * nr * nl];
+    // All nine rotated rigid sets side by side, so that M_C and K_C are two products:
+    // `(M T)^T Phi` is `T^T (M Phi)` without an n x n-by-nl product.
+    let mut t_lk = DMatrix::zeros(dofs.len(), 9 * nr);
+    let mut t_kl = DMatrix::zeros(dofs.len(), 9 * nr);
     for k in 0..3 {
         for l in 0..3 {
             let blk = 3 * k + l;
-            let t_lk = modes_on(&dofs, &p.local, nr, Some((l, k)), &has);
-            let t_kl = modes_on(&dofs, &p.local, nr, Some((k, l)), &has);
-            let mc = t_lk.transpose() * &mphi;
-            let kc = t_kl.transpose() * &kphi;
-            for i in 0..nr {
-                for j in 0..nl {
-                    m_c[blk * nr * nl + i * nl + j] = mc[(i, j)];
-                    k_c[blk * nr * nl + i * nl + j] = kc[(i, j)];
-                }
-            }
+            t_lk.columns_mut(blk * nr, nr).copy_from(&modes_on(
+                &dofs,
+                &p.local,
+                nr,
+                Some((l, k)),
+                &has,
+            ));
+            t_kl.columns_mut(blk * nr, nr).copy_from(&modes_on(
+                &dofs,
+                &p.local,
+                nr,
+                Some((k, l)),
+                &has,
+            ));
+        }
+    }
+    let mc = dense::tr_mul(&dense::mul(&model.m, &t_lk), phi);
+    let kc = dense::tr_mul(&dense::mul(&model.k, &t_kl), phi);
+    let mut m_c = vec![0.0; 9 * nr * nl];
+    let mut k_c = vec![0.0; 9 * nr * nl];
+    for row in 0..9 * nr {
+        for j in 0..nl {
+            m_c[row * nl + j] = mc[(row, j)];
+            k_c[row * nl + j] = kc[(row, j)];
         }
     }
     file.m_c = m_c;

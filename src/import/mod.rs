@@ -26,6 +26,7 @@ use crate::fxb::FxbFile;
 use crate::num::num;
 
 pub mod assemble;
+pub mod dense;
 pub mod dofs;
 pub mod modes;
 pub mod report;
@@ -36,10 +37,13 @@ pub use report::Report;
 pub use units::Units;
 
 /// The largest dense problem `import` solves (DOFs, before dead-DOF removal). Above it the
-/// user is asked to reduce in the FE code. The dense symmetric eigen-solver is O(n^3):
-/// measured on a loaded 2-core machine (load average 4), a whole import of 1008 DOFs takes
-/// 4.6 s and of 1938 DOFs 39 s; nalgebra's eigen-solver alone took 129 s at 3000.
-pub const MAX_DENSE_DOFS: usize = 2000;
+/// user is asked to reduce in the FE code. The work is O(n^3) (Cholesky, the standard-form
+/// matrix, the symmetric eigen-solver, the products of [`assemble`]; [`dense`]). Measured
+/// on a 2-core machine under a load average of 10 to 13 (tests/python/import_sizes.py, a
+/// free grillage), beside LAPACK's generalised eigen-solver alone on the same matrices in
+/// the same run: 1008 DOFs 4.6 s (LAPACK 1.2 s), 2040 DOFs 36 s (9.5 s), 3000 DOFs 97 s
+/// (22 s); 4032 DOFs took 189 s with the limit lifted.
+pub const MAX_DENSE_DOFS: usize = 3000;
 
 /// Free or blocked, as asked on the command line; `Detect` takes it from K's null space.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

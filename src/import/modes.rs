@@ -15,8 +15,9 @@
 //! K_L is zero, and the static response at the nodes is that of the whole model (for a
 //! free body: the inertia-relief response).
 
-use nalgebra::{DMatrix, DVector, SymmetricEigen};
+use nalgebra::{DMatrix, DVector};
 
+use super::dense;
 use super::dofs::Reduced;
 use super::report::Report;
 use super::rigid::{MOTIONS, MassProps};
@@ -47,9 +48,12 @@ pub struct Eigen {
 impl Eigen {
     /// Factor M (refusing a negative or singular one) and form A.
     pub fn solve(model: &Reduced) -> Result<Eigen, ImportError> {
-        let Some(chol) = model.m.clone().cholesky() else {
-            let e = SymmetricEigen::new(model.m.clone()).eigenvalues;
-            let (lo, hi) = (e.min(), e.max());
+        let Some(l) = dense::cholesky(&model.m) else {
+            let e = dense::sym_eigenvalues(&model.m).unwrap_or_default();
+            let (lo, hi) = (
+                e.first().copied().unwrap_or(f64::NAN),
+                e.last().copied().unwrap_or(f64::NAN),
+            );
             return Err(if lo < -ZERO_TOL * hi.abs() {
                 ImportError::NegativeMass {
                     value: lo,
@@ -62,14 +66,7 @@ impl Eigen {
                 }
             });
         };
-        let l = chol.l();
-        let x = l
-            .solve_lower_triangular(&model.k)
-            .expect("Cholesky factor has a positive diagonal");
-        let a = l
-            .solve_lower_triangular(&x.transpose())
-            .expect("Cholesky factor has a positive diagonal");
-        let a = (&a + a.transpose()) * 0.5;
+        let a = dense::congruence_inverse(&l, &model.k);
         Ok(Eigen { l, a })
     }
 }
@@ -157,16 +154,15 @@ pub fn elastic(
         a += (&u * rb_inv * u.transpose()) * sigma;
         a = (&a + a.transpose()) * 0.5;
     }
-    let e = SymmetricEigen::new(a);
-    let mut order: Vec<usize> = (0..n).collect();
-    order.sort_by(|&i, &j| e.eigenvalues[i].total_cmp(&e.eigenvalues[j]));
+    let (values, vectors) = dense::sym_eigen(&a)
+        .ok_or_else(|| ImportError::Invalid("the eigen-solver did not converge".into()))?;
     let nel = if props.is_some() {
         n.saturating_sub(6)
     } else {
         n
     };
-    let order = &order[..nel];
-    let lambda: Vec<f64> = order.iter().map(|&i| e.eigenvalues[i]).collect();
+    // Ascending: the elastic pairs first (a free body's rigid pairs were shifted up).
+    let lambda: Vec<f64> = values[..nel].to_vec();
     let top = lambda.iter().fold(0.0f64, |m, v| m.max(v.abs()));
     if let Some(&lo) = lambda.first()
         && lo < -ZERO_TOL * top
@@ -186,16 +182,12 @@ pub fn elastic(
             },
         });
     }
-    let v = DMatrix::from_fn(n, nel, |r, c| e.eigenvectors[(r, order[c])]);
-    let mut phi = eig
-        .l
-        .transpose()
-        .solve_upper_triangular(&v)
-        .expect("Cholesky factor has a positive diagonal");
+    let v = vectors.columns(0, nel).into_owned();
+    let mut phi = dense::solve_lower_transposed(&eig.l, &v);
     if let Some(p) = props {
-        // Re-project: phi -= R Rb^-1 R^T M phi.
+        // Re-project: phi -= R Rb^-1 (M R)^T phi (M R is n x 6: no n x n product).
         let rb_inv = p.rb.clone().try_inverse().expect("checked above");
-        let c = rb_inv * p.r.transpose() * (&model.m * &phi);
+        let c = rb_inv * dense::tr_mul(&(&model.m * &p.r), &phi);
         phi -= &p.r * c;
     }
     Ok((lambda, phi))

@@ -2,6 +2,7 @@
 (scripts/test.sh builds it first) into a temporary folder, and read their references."""
 
 import json
+import os
 import pathlib
 import subprocess
 
@@ -11,6 +12,21 @@ REPO = pathlib.Path(__file__).resolve().parents[2]
 FIXTURES = REPO / "fixtures"
 EXE = REPO / "target" / "release" / "fxbody"
 BODIES = ["cantilever", "cantilever_damped", "freefree", "truss"]
+
+
+def nastran_python():
+    """The Python of the pyNastran venv (pyNastran pins numpy < 2, so it is not in the test
+    venv): FXBODY_NASTRAN_PYTHON, which scripts/test.sh sets after making .venv-nastran
+    from requirements-nastran.txt. Unset (pytest run by hand): the test is skipped, saying
+    so; set but unusable: the test fails."""
+    exe = os.environ.get("FXBODY_NASTRAN_PYTHON")
+    if not exe:
+        pytest.skip("pyNastran is not in the test venv (it needs numpy < 2): run "
+                    "scripts/test.sh, which makes .venv-nastran and sets FXBODY_NASTRAN_PYTHON")
+    run = subprocess.run([exe, "-c", "import pyNastran; print(pyNastran.__version__)"],
+                         capture_output=True, text=True)
+    assert run.returncode == 0, f"FXBODY_NASTRAN_PYTHON={exe} has no pyNastran: {run.stderr}"
+    return exe
 
 
 def pack_fmu(out_dir, body, *extra, name=None):

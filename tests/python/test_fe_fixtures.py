@@ -6,6 +6,8 @@ import pathlib
 import subprocess
 import sys
 
+from conftest import nastran_python
+
 FE = pathlib.Path(__file__).resolve().parents[1] / "data" / "fe"
 
 
@@ -21,3 +23,14 @@ def test_fixtures_are_reproduced_by_their_writer(tmp_path):
     committed = {p.name for p in FE.iterdir() if p.is_file()}
     assert committed - set(written) == {"make_fixtures.py", "make_pynastran.py",
                                          "pyn_written.bdf"}
+
+
+def test_pynastran_fixture_is_what_pynastran_writes(tmp_path):
+    """pyn_written.bdf, read by the Rust DMIG tests, written again by pyNastran itself in
+    its own venv (make_pynastran.py): the committed copy is byte for byte its output."""
+    run = subprocess.run([nastran_python(), str(FE / "make_pynastran.py"), str(tmp_path)],
+                         capture_output=True, text=True, cwd=FE)
+    assert run.returncode == 0, run.stderr
+    assert "reads back its own KAAX to" in run.stdout, run.stdout
+    got = (tmp_path / "pyn_written.bdf").read_bytes()
+    assert got == (FE / "pyn_written.bdf").read_bytes()

@@ -1,6 +1,6 @@
 """`fxbody import` against independent reductions of full FE models (import_models.py):
 a 3D frame bracket reduced in numpy by Guyan and Craig-Bampton, free and clamped, written
-as a real Nastran punch, as Abaqus lines and (committed fixture) by pyNastran; the
+as a real Nastran punch, as Abaqus lines and by pyNastran (its own venv, during the run); the
 written .fxb is read back with fixtures/fxbread.py. Criteria: statics at the interface
 nodes equal to the full model's, frequencies equal to the reduced model's, mass
 properties equal to the full model's, a free body's spin through the FMU against Euler's
@@ -18,13 +18,12 @@ from fmpy import extract
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 import import_models as im  # noqa: E402
-from conftest import EXE, FIXTURES, REPO  # noqa: E402
+from conftest import EXE, FIXTURES, REPO, nastran_python  # noqa: E402
 from slave import Slave  # noqa: E402
 
 sys.path.insert(0, str(FIXTURES))
 import fxbread  # noqa: E402
 
-DATA = REPO / "tests" / "data" / "import"
 IFACE = [105, 108, 110]  # interface nodes of the clamped bracket (node 101 clamped)
 FREE_IFACE = [101, 105, 108, 110]
 
@@ -124,7 +123,7 @@ def test_guyan_clamped_punch_statics_and_frequencies(clamped, tmp_path):
 @pytest.mark.parametrize("fmax", [None, 300.0])
 def test_craig_bampton_clamped_statics_and_frequencies(clamped, tmp_path, fmax):
     ids, xyz, k, m = clamped
-    kc, mc, _, cut = im.craig_bampton(k, m, im.dof_index(ids, IFACE), 12)
+    kc, mc, _, _ = im.craig_bampton(k, m, im.dof_index(ids, IFACE), 12)
     im.write_punch(tmp_path / "cb.pch", {"KAAX": kc, "MAAX": mc}, im.reduced_dofs(ids, IFACE, 12))
     extra = ["--fmax", fmax] if fmax else []
     run_import(tmp_path / "cb.pch", "--blocked", "-o", tmp_path / "cb.fxb", *extra)
@@ -134,17 +133,13 @@ def test_craig_bampton_clamped_statics_and_frequencies(clamped, tmp_path, fmax):
     er = reduced_static_error(f, as_punched(kc), IFACE)
     assert er < 1e-8, f"CB statics (fmax {fmax}) off the punched model's by {er:.2e}"
     f_red = hz(la.eigvalsh(as_punched(kc), as_punched(mc)))
-    f_full = hz(la.eigvalsh(k, m))
     fb = body_hz(f)
     if fmax is None:
         assert f["nbstat"] == 0 and f["nbmod"] == 30
         ef = np.abs(fb / f_red - 1).max()
         assert ef < 1e-8, f"CB frequencies off the reduced model's by {ef:.2e}"
-        low = f_red < cut / 2
-        ec = np.abs(fb[low] / f_full[: low.sum()] - 1).max()
-        assert low.sum() >= 4 and ec < 1e-3, f"CB vs full below {cut / 2:.0f} Hz: {ec:.2e}"
-        print(f"CB clamped: statics {es:.2e} (vs punched {er:.2e}), vs reduced {ef:.2e}, vs full ({low.sum()} "
-              f"modes < {cut / 2:.0f} Hz) {ec:.2e}")
+        # against the full model: test_craig_bampton_against_the_full_model
+        print(f"CB clamped: statics {es:.2e} (vs punched {er:.2e}), vs reduced {ef:.2e}")
     else:
         kept = int((f_red <= fmax).sum())
         assert f["nbstat"] > 0 and f["nbmod"] - f["nbstat"] == kept
@@ -158,10 +153,17 @@ def test_craig_bampton_clamped_statics_and_frequencies(clamped, tmp_path, fmax):
 
 def test_craig_bampton_written_by_pynastran(clamped, tmp_path):
     """The clamped Craig-Bampton bracket as pyNastran itself writes it (GRID, SPOINT, DMIG
-    large field; tests/data/import/make_pynastran.py), coordinates from its GRID cards."""
+    large field), written during the run by the pyNastran venv (pyn_write.py),
+    coordinates from its GRID cards."""
     ids, xyz, k, m = clamped
     kc, mc, _, _ = im.craig_bampton(k, m, im.dof_index(ids, IFACE), 12)
-    bdf = DATA / "cb_pyn.bdf"
+    np.savez(tmp_path / "cb.npz", KAAX=kc, MAAX=mc, dofs=np.array(im.reduced_dofs(ids, IFACE, 12)),
+             ids=np.array(ids), xyz=xyz)
+    bdf = tmp_path / "cb_pyn.bdf"
+    w = subprocess.run([nastran_python(), str(REPO / "tests" / "python" / "pyn_write.py"),
+                        str(tmp_path / "cb.npz"), str(bdf)], capture_output=True, text=True)
+    assert w.returncode == 0, f"pyNastran could not write the model: {w.stderr}"
+    assert bdf.read_text().startswith("$pyNastran: version="), "not pyNastran's file"
     run_import(bdf, "--coords", bdf, "-o", tmp_path / "p.fxb", "--report", tmp_path / "p.json")
     assert json.loads((tmp_path / "p.json").read_text())["free"] is False
     f = read(tmp_path / "p.fxb")
@@ -172,6 +174,30 @@ def test_craig_bampton_written_by_pynastran(clamped, tmp_path):
     # the .fxb's 10 digits give ~8e-9 (see the punch tests); pyNastran's rounding of the
     # input adds to it
     assert es < 2e-8 and ef < 1e-8, f"statics {es:.2e}, frequencies {ef:.2e}"
+
+
+@pytest.mark.parametrize("case", ["free", "free_fmax", "blocked", "blocked_fmax"])
+def test_same_bodies_as_the_previous_solver(tmp_path, case):
+    """The faer dense solver (eigen-solver, Cholesky, products) against the nalgebra one
+    it replaced, through the bodies that one wrote (tests/data/import/make_prev_solver.py):
+    every block of the file equal to round-off. The mode signs are fixed by the scaling
+    (largest nodal translation +1), so the modes compare directly."""
+    sys.path.insert(0, str(REPO / "tests" / "data" / "import"))
+    import make_prev_solver as prev
+
+    args = prev.inputs(tmp_path)[case]
+    run_import(*args, "-o", tmp_path / "new.fxb")
+    got, want = read(tmp_path / "new.fxb"), read(REPO / "tests" / "data" / "import" / f"{case}.fxb")
+    for key in ("nbmod", "nbstat", "nbnod", "irot", "iblo", "node_ids"):
+        assert got[key] == want[key], key
+    worst = {}
+    for key in ("rigid", "local", "m_l", "k_l", "m_r", "m_c", "k_c", "freq"):
+        a, b = np.asarray(got[key], float), np.asarray(want[key], float)
+        worst[key] = float(np.abs(a - b).max() / max(np.abs(b).max(), 1e-300)) if b.size else 0.0
+    print(f"{case}: largest difference per block, relative to the block: "
+          + ", ".join(f"{k} {v:.1e}" for k, v in worst.items()))
+    # the file's 10 significant digits bound what can be compared
+    assert max(worst.values()) < 1e-9, worst
 
 
 def test_massless_rotations_condensed_exactly(clamped, tmp_path):
@@ -271,7 +297,7 @@ def test_free_statics_under_a_self_equilibrated_pair(model, tmp_path, fmax):
 
 def test_free_craig_bampton_punch(model, tmp_path):
     ids, xyz, k, m = model
-    kc, mc, _, cut = im.craig_bampton(k, m, im.dof_index(ids, FREE_IFACE), 12)
+    kc, mc, _, _ = im.craig_bampton(k, m, im.dof_index(ids, FREE_IFACE), 12)
     im.write_punch(tmp_path / "cb.pch", {"KAAX": kc, "MAAX": mc},
                    im.reduced_dofs(ids, FREE_IFACE, 12))
     im.write_csv(tmp_path / "nodes.csv", ids, xyz)
@@ -284,14 +310,55 @@ def test_free_craig_bampton_punch(model, tmp_path):
     fb = body_hz(f)
     ef = np.abs(fb / hz(la.eigvalsh(as_punched(kc), as_punched(mc))[6:]) - 1).max()
     assert ef < 1e-8, f"free CB vs the reduced model: {ef:.2e}"
-    f_full = hz(la.eigvalsh(k, m)[6:])
-    # a property of the reduction, not of the import: this coarse bracket's free
-    # Craig-Bampton model (4 interface nodes, 12 modes) is within 3.3e-4 of the full
-    # model up to a quarter of the cut-off, 2e-3 up to half
-    low = fb < cut / 4
+    print(f"free CB: vs reduced {ef:.2e}")
+
+
+# Craig-Bampton against the full model, with the cut-off chosen as a user would: a round
+# frequency F, every fixed-interface mode up to F kept, the imported body's frequencies
+# below F/2 compared with the full model's. The reduction is right (each frequency is an
+# upper bound of the full model's and falls as modes are added; with all 36 interior modes
+# it is the full model to 1e-13), but on this slender frame the criterion of 1e-3 below
+# F/2 holds for one of the four cut-offs only: the legs' fixed-interface modes above F
+# carry a few percent of the mass that the system's modes near F/2 move. Measured (also
+# with the legs' mesh refined 2x and 4x, and on a grillage): 1e-3 to 1e-2. Not a defect
+# of the reduction nor of the import (which equals the reduced model to 1e-8 above); the
+# failing cases are strict xfails, so that one that starts to pass is reported.
+def _cb_case(support, cutoff, reason=None):
+    marks = [pytest.mark.xfail(strict=True, reason=reason)] if reason else []
+    return pytest.param(support, cutoff, marks=marks, id=f"{support}-{cutoff:.0f}Hz")
+
+
+@pytest.mark.parametrize("support,cutoff", [
+    _cb_case("clamped", 1500.0),
+    _cb_case("clamped", 3000.0, "measured 7.0e-3 below 1500 Hz (19 modes kept)"),
+    _cb_case("free", 1500.0, "measured 2.0e-3 below 750 Hz (12 modes kept)"),
+    _cb_case("free", 3000.0, "measured 8.3e-3 below 1500 Hz (19 modes kept)"),
+])
+def test_craig_bampton_against_the_full_model(model, clamped, tmp_path, support, cutoff):
+    ids, xyz, k, m = clamped if support == "clamped" else model
+    iface = IFACE if support == "clamped" else FREE_IFACE
+    rigid = 0 if support == "clamped" else 6
+    b = im.dof_index(ids, iface)
+    i = np.setdiff1d(np.arange(k.shape[0]), b)
+    f_fixed = hz(la.eigvalsh(k[np.ix_(i, i)], m[np.ix_(i, i)]))
+    nm = int((f_fixed <= cutoff).sum())
+    kc, mc, _, _ = im.craig_bampton(k, m, b, nm)
+    f_full = hz(la.eigvalsh(k, m))[rigid:]
+    # the reduction itself: an upper bound of every frequency, and exact with all modes
+    f_red = hz(la.eigvalsh(kc, mc))[rigid:]
+    assert np.all(f_red >= f_full[: len(f_red)] * (1 - 1e-9))
+    ka, ma, _, _ = im.craig_bampton(k, m, b, len(i))
+    assert np.abs(hz(la.eigvalsh(ka, ma))[rigid:] / f_full - 1).max() < 1e-9
+    im.write_punch(tmp_path / "cb.pch", {"KAAX": kc, "MAAX": mc}, im.reduced_dofs(ids, iface, nm))
+    im.write_csv(tmp_path / "nodes.csv", ids, xyz)
+    extra = ["--free", "--coords", tmp_path / "nodes.csv"] if rigid else ["--blocked"]
+    run_import(tmp_path / "cb.pch", *extra, "-o", tmp_path / "cb.fxb")
+    fb = body_hz(read(tmp_path / "cb.fxb"))
+    low = fb < cutoff / 2
     ec = np.abs(fb[low] / f_full[: low.sum()] - 1).max()
-    assert low.sum() >= 4 and ec < 1e-3, f"free CB vs full: {ec:.2e}"
-    print(f"free CB: vs reduced {ef:.2e}, vs full ({low.sum()} modes) {ec:.2e}")
+    print(f"CB {support}, cut-off {cutoff:.0f} Hz ({nm} modes): {low.sum()} frequencies below "
+          f"{cutoff / 2:.0f} Hz within {ec:.1e} of the full model's")
+    assert low.sum() >= 4 and ec < 1e-3, f"CB vs full below {cutoff / 2:.0f} Hz: {ec:.2e}"
 
 
 def euler_reference(inertia, w0, t_end, h):
@@ -451,14 +518,14 @@ def test_error_negative_mass(model, tmp_path):
 
 
 def test_error_too_large(tmp_path):
-    n = 2001
+    n = 3001
     dofs = [(1 + i // 3, 1 + i % 3) for i in range(n)]
     a = np.eye(n)
     im.write_abaqus(tmp_path / "K.mtx", dofs, a)
     im.write_abaqus(tmp_path / "M.mtx", dofs, a)
     r = run_import("--stiffness", tmp_path / "K.mtx", "--mass", tmp_path / "M.mtx", "-o",
                    tmp_path / "x.fxb", ok=False)
-    assert "dense size 2001 DOFs exceeds the limit of 2000" in r.stderr and "reduce the model in your" \
+    assert "dense size 3001 DOFs exceeds the limit of 3000" in r.stderr and "reduce the model in your" \
         " FE code (Craig-Bampton or Guyan)" in r.stderr, r.stderr
 
 

@@ -6,8 +6,16 @@
 use crate::common::root;
 use std::path::{Path, PathBuf};
 
-/// Directories of the repository that are not its own text.
-const SKIP_DIRS: [&str; 5] = ["target", ".venv", ".git", "out", "__pycache__"];
+/// Directories of the repository that are not its own text (the two venvs that
+/// scripts/test.sh makes among them).
+const SKIP_DIRS: [&str; 6] = [
+    "target",
+    ".venv",
+    ".venv-nastran",
+    ".git",
+    "out",
+    "__pycache__",
+];
 /// Text files that may cite the formulation or link to other files.
 const EXTENSIONS: [&str; 8] = ["rs", "md", "py", "toml", "txt", "sh", "h", "c"];
 

@@ -3,15 +3,18 @@
 
 pyNastran 1.4.1 pins numpy 1.x, so it lives in a venv of its own, not in the test venv:
 
-    python3 -m venv /tmp/pyn && /tmp/pyn/bin/pip install pyNastran==1.4.1
-    /tmp/pyn/bin/python tests/data/fe/make_pynastran.py
+    .venv-nastran/bin/python tests/data/fe/make_pynastran.py [OUT_DIR]
 
-The file is committed, so the Rust test (tests/all/format/fe.rs) needs no Python. It holds
+(scripts/test.sh makes .venv-nastran from requirements-nastran.txt). The file is
+committed, so the Rust test (tests/all/format/fe.rs) needs no Python; the Python test
+tests/python/test_fe_fixtures.py writes it again with pyNastran during the run and
+checks that the committed copy is byte for byte what pyNastran writes. It holds
 GRID (large field), SPOINT and the KAAX and MAAX matrices of make_fixtures.py (the same
 values as expected_punch_kaax.csv and expected_punch_maax.csv), one upper triangle each,
 written large-field double precision as pyNastran does (size=16, is_double=True).
 """
 import os
+import sys
 
 from pyNastran.bdf.bdf import BDF
 
@@ -20,7 +23,7 @@ import make_fixtures as fx
 HERE = os.path.dirname(os.path.abspath(__file__))
 
 
-def main():
+def main(out_dir=HERE):
     model = BDF(debug=False)
     for nid, xyz in sorted(fx.NODES.items()):
         model.add_grid(nid, list(xyz))
@@ -32,7 +35,7 @@ def main():
             gci.append(fx.DOFS[i])
             real.append(v)
         model.add_dmig(name, 6, 2, 0, 0, None, gcj, gci, real)
-    path = os.path.join(HERE, "pyn_written.bdf")
+    path = os.path.join(out_dir, "pyn_written.bdf")
     model.write_bdf(path, size=16, is_double=True)
 
     # Cross-check with pyNastran's own reader: its matrix equals the one meant.
@@ -52,4 +55,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    main(*sys.argv[1:2])
