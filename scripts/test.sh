@@ -2,7 +2,8 @@
 # The whole test suite: formatting and lints (the workspace's [lints]: unsafe only at the
 # FMI boundary and in the host, every unsafe block with a SAFETY comment, every public
 # item documented), Rust (unit, integration, doc tests of every package) and Python
-# (fixture generator checks, fmpy tests). Creates ./.venv with requirements-test.txt on first use.
+# (fixture generator checks, the FMUs in fmpy, libcosim and ecos, the Dask sweep, the
+# README's snippets). Creates ./.venv with requirements-test.txt on first use.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -18,4 +19,6 @@ cargo fmt --all --check
 cargo clippy --release --workspace --all-targets -- -D warnings
 cargo build --release --workspace
 cargo test --release --workspace
-.venv/bin/python -m pytest -q tests/python fixtures
+# ecos (ecospy) needs libtbb.so.12, which PyPI's tbb installs into the venv's lib/.
+LD_LIBRARY_PATH="$PWD/.venv/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}" \
+    .venv/bin/python -m pytest -q tests/python fixtures
