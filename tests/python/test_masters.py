@@ -11,11 +11,10 @@ import re
 
 import numpy as np
 import pytest
-from fmpy import read_model_description
 
 import masters
 from conftest import FIXTURES, pack_fmu, reference
-from masters import MASTERS, Instance
+from masters import MASTERS, Instance, method_param, method_variable, skip_unless_settable
 
 EXPLICIT, IMPLICIT, EXACT = 1, 2, 3
 
@@ -57,11 +56,6 @@ def packed(body):
     return _PACKED[body]
 
 
-def method_variable(fmu):
-    md = read_model_description(str(fmu))
-    return next(v for v in md.modelVariables if v.name == "method")
-
-
 def declared_methods(fmu):
     """The method values the FMU accepts: Integer min..max or the Enumeration's items."""
     v = method_variable(fmu)
@@ -91,23 +85,6 @@ def experiment(body, amplitude_scale=1.0):
         end = resp["duration"] - 1e-9 * h
         load_at = lambda time: amp if time < end else 0.0  # noqa: E731
     return h, len(t) - 1, f"node_{tip}.{resp['load_dof']}", load_at, [f"node_{tip}.y", f"node_{tip}.vy"]
-
-
-def skip_unless_settable(master, fmu, method):
-    """libcosim and ecos drop an FMI Enumeration parameter (they run the default
-    method whatever is set): until `method` is an Integer, such a run would not test the
-    method it names."""
-    v = method_variable(fmu)
-    if master != "fmpy" and v.type == "Enumeration" and method != int(v.start):
-        pytest.skip(f"{master} ignores `method` while it is an FMI Enumeration (issue 15 item 1)")
-
-
-def method_param(master, fmu, method):
-    """{"method": method}, or nothing where the master cannot set it and it is the default."""
-    v = method_variable(fmu)
-    if master != "fmpy" and v.type == "Enumeration" and method == int(v.start):
-        return {}
-    return {"method": method}
 
 
 @functools.lru_cache(maxsize=None)
