@@ -5,6 +5,9 @@ worker made one FMU instance and reused it; the table follows the full-FE refere
 the laws a linear damped body obeys."""
 
 import csv
+import os
+import shutil
+import subprocess
 import sys
 
 import numpy as np
@@ -26,16 +29,28 @@ def tip_fmu(fmu_dir):
     return fmu
 
 
-def test_sweep_on_a_local_cluster_equals_the_serial_runs(tip_fmu, tmp_path):
+@pytest.fixture(scope="module")
+def cluster():
+    """Two worker processes, one thread each, on this machine."""
     try:
-        from dask.distributed import Client, LocalCluster
+        from dask.distributed import LocalCluster
     except ImportError as e:
         pytest.skip(f"dask.distributed cannot be imported: {e}")
-    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \
-            Client(cluster) as client:
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as c:
+        yield c
+
+
+@pytest.fixture(scope="module")
+def serial(tip_fmu):
+    return dask_sweep.serial(str(tip_fmu))
+
+
+def test_sweep_on_a_local_cluster_equals_the_serial_runs(tip_fmu, cluster, serial, tmp_path):
+    from dask.distributed import Client
+
+    with Client(cluster) as client:
         rows = dask_sweep.sweep(client, str(tip_fmu))
         stats = client.run(dask_sweep.worker_stats)
-    serial = dask_sweep.serial(str(tip_fmu))
     assert len(rows) == len(serial) == 64
     for got, want in zip(rows, serial):
         assert got == want, (got, want)  # floats compared exactly: bit for bit
@@ -70,3 +85,27 @@ def test_sweep_on_a_local_cluster_equals_the_serial_runs(tip_fmu, tmp_path):
     assert [float(r["peak_tip_deflection_m"]) for r in back] == [r["peak_tip_deflection_m"] for r in rows]
     svg = (tmp_path / "sweep.svg").read_text()
     assert svg.count("<rect") == 64 and svg.rstrip().endswith("</svg>")
+
+
+def test_readme_code_runs_against_a_scheduler_address(tip_fmu, cluster, serial, tmp_path):
+    """The README's code for a multi-machine cluster, with its scheduler address
+    (tcp://scheduler:8786) replaced by the LocalCluster's, run as a script from a folder
+    laid out like the repository; and the command line with --scheduler. Both tables
+    equal the serial runs."""
+    from test_readme import section_blocks
+
+    [(lang, code)] = section_blocks("## Parameter sweeps on a Dask cluster")[""]
+    assert lang == "python" and "tcp://scheduler:8786" in code
+    os.symlink(REPO / "examples", tmp_path / "examples")
+    (tmp_path / "out").mkdir()
+    shutil.copy(tip_fmu, tmp_path / "out" / "cantilever.fmu")
+    (tmp_path / "snippet.py").write_text(code.replace("tcp://scheduler:8786", cluster.scheduler_address))
+    run = subprocess.run([sys.executable, "snippet.py"], cwd=tmp_path, capture_output=True, text=True)
+    assert run.returncode == 0, run.stdout + run.stderr
+
+    dask_sweep.main([str(tip_fmu), "--scheduler", cluster.scheduler_address, "--out", str(tmp_path / "cli")])
+    want = [repr(r["peak_tip_deflection_m"]) for r in serial]
+    for table in (tmp_path / "sweep.csv", tmp_path / "cli" / "sweep.csv"):
+        with open(table) as f:
+            assert [r["peak_tip_deflection_m"] for r in csv.DictReader(f)] == want, table
+    assert (tmp_path / "cli" / "sweep.svg").is_file()
