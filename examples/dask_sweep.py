@@ -18,6 +18,7 @@ import argparse
 import csv
 import hashlib
 import os
+import shutil
 import sys
 import tempfile
 import threading
@@ -61,6 +62,8 @@ class Body:
             except OSError:
                 if not os.path.isdir(where):
                     raise
+            finally:
+                shutil.rmtree(tmp, ignore_errors=True)
         md = read_model_description(where)
         self.vr = {v.name: v.valueReference for v in md.modelVariables}
         for name in (LOAD, OUT, "damping.ratio"):
