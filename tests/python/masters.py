@@ -31,6 +31,10 @@ class Instance:
     reals: dict = field(default_factory=dict)  # Real parameters
 
 
+class Refused(Exception):
+    """The master reported that the FMU (or the master itself) refused a call."""
+
+
 def require(master):
     """Import a master's Python package or skip the calling test with the reason."""
     try:
@@ -95,19 +99,28 @@ def _fmpy(fmu, h, n, instances):
 
     from slave import Slave
 
+    from fmpy.fmi1 import FMICallException
+
     with tempfile.TemporaryDirectory() as unz:
         extract(fmu, unz)
-        slaves = [Slave(fmu, unz, name=i.name).start(reals=i.reals, ints=i.ints) for i in instances]
-        out = {i.name: np.empty((n, len(i.outputs))) for i in instances}
-        for k in range(n):
-            t = k * h
-            for i, s in zip(instances, slaves):
-                if i.load:
-                    s.s.setReal([s.vr[i.load]], [i.load_at(t)])
-                s.s.doStep(t, h)
-                out[i.name][k] = s.s.getReal([s.vr[o] for o in i.outputs])
-        for s in slaves:
-            s.free()
+        slaves = []
+        try:
+            for i in instances:
+                slaves.append(Slave(fmu, unz, name=i.name))
+                slaves[-1].start(reals=i.reals, ints=i.ints)
+            out = {i.name: np.empty((n, len(i.outputs))) for i in instances}
+            for k in range(n):
+                t = k * h
+                for i, s in zip(instances, slaves):
+                    if i.load:
+                        s.s.setReal([s.vr[i.load]], [i.load_at(t)])
+                    s.s.doStep(t, h)
+                    out[i.name][k] = s.s.getReal([s.vr[o] for o in i.outputs])
+        except FMICallException as e:
+            raise Refused(f"fmpy: {e}") from e
+        finally:
+            for s in slaves:
+                s.s.freeInstance()
     return out
 
 
@@ -117,6 +130,7 @@ def _libcosim(fmu, h, n, instances):
     from libcosimpy.CosimManipulator import CosimManipulator
     from libcosimpy.CosimObserver import CosimObserver
     from libcosimpy.CosimSlave import CosimLocalSlave
+    from libcosimpy._internal import get_last_error_message
 
     log_output_level(CosimLogLevel.WARNING)
     ns = round(h * 1e9)
@@ -139,14 +153,16 @@ def _libcosim(fmu, h, n, instances):
                 if name not in vr:
                     raise KeyError(f"libcosim does not list variable {name} of {fmu} (it drops the "
                                    f"variable types it does not support)")
-                assert setter(idx[i.name], vr[name], value), f"libcosim refused {name} = {value}"
+                if not setter(idx[i.name], vr[name], value):
+                    raise Refused(f"libcosim: initial value {name} = {value}: {get_last_error_message()}")
     out = {i.name: np.empty((n, len(i.outputs))) for i in instances}
     for k in range(n):
         t = k * h
         for i in instances:
             if i.load:
                 assert man.slave_real_values(idx[i.name], [vrs[i.name][i.load]], [i.load_at(t)])
-        assert ex.step(), f"libcosim step {k} failed"
+        if not ex.step():
+            raise Refused(f"libcosim: step {k} failed: {get_last_error_message()}")
         for i in instances:
             out[i.name][k] = obs.last_real_values(idx[i.name], [vrs[i.name][o] for o in i.outputs])
     del ex, keep
@@ -166,17 +182,20 @@ def _ecos(fmu, h, n, instances):
     if params:
         assert ss.add_parameter_set("start", params), EcosLib.get_last_error()
     sim = EcosSimulation(structure=ss, step_size=h)
-    assert sim.init(parameter_set="start" if params else None), EcosLib.get_last_error()
-    out = {i.name: np.empty((n, len(i.outputs))) for i in instances}
-    for k in range(n):
-        t = k * h
-        for i in instances:
-            if i.load:
-                sim.set_real(f"{i.name}::{i.load}", i.load_at(t))
-        sim.step(1)
-        for i in instances:
-            out[i.name][k] = [sim.get_real(f"{i.name}::{o}") for o in i.outputs]
-    sim.terminate()
-    sim.free()
-    ss.free()
+    try:
+        if not sim.init(parameter_set="start" if params else None):
+            raise Refused(f"ecos: init failed: {EcosLib.get_last_error()}")
+        out = {i.name: np.empty((n, len(i.outputs))) for i in instances}
+        for k in range(n):
+            t = k * h
+            for i in instances:
+                if i.load:
+                    sim.set_real(f"{i.name}::{i.load}", i.load_at(t))
+            sim.step(1)
+            for i in instances:
+                out[i.name][k] = [sim.get_real(f"{i.name}::{o}") for o in i.outputs]
+        sim.terminate()
+    finally:
+        sim.free()
+        ss.free()
     return out

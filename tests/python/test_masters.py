@@ -57,11 +57,38 @@ def packed(body):
 
 
 def declared_methods(fmu):
-    """The method values the FMU accepts: Integer min..max or the Enumeration's items."""
+    """The method values the FMU declares: Integer min..max, or the Enumeration's items."""
     v = method_variable(fmu)
     if v.type == "Integer":
         return set(range(int(v.min), int(v.max) + 1))
     return {int(item.value) for item in v.declaredType.items}
+
+
+@functools.lru_cache(maxsize=None)
+def offered_methods(fmu):
+    """The declared values this body runs (one declared range serves every body; a
+    blocked-only method is declared but refused on a free body): those fmpy can
+    initialise an instance with."""
+    import tempfile
+
+    from fmpy import extract
+    from fmpy.fmi1 import FMICallException
+
+    from slave import Slave
+
+    offered = set()
+    with tempfile.TemporaryDirectory() as unz:
+        extract(str(fmu), unz)
+        for m in sorted(declared_methods(fmu)):
+            s = Slave(fmu, unz, name=f"probe{m}")
+            try:
+                s.start(ints={"method": m})
+            except FMICallException:
+                s.s.freeInstance()
+                continue
+            offered.add(m)
+            s.free()
+    return offered
 
 
 def rest_position(body, node):
@@ -108,9 +135,25 @@ def response_error(body, got):
 
 
 @pytest.mark.parametrize("body", CASES)
-def test_every_declared_method_has_a_floor(body):
+def test_every_offered_method_has_a_floor(body):
     """A method added to the FMU must get its floor here (else it would go untested)."""
-    assert declared_methods(packed(body)) == set(CASES[body]["floors"])
+    assert offered_methods(packed(body)) == set(CASES[body]["floors"])
+
+
+@pytest.mark.parametrize("body", CASES)
+@pytest.mark.parametrize("master", MASTERS)
+def test_a_method_the_body_does_not_offer_fails_in_every_master(master, body):
+    """Right or loud: a method value outside the declared range, or declared but not
+    offered by this body (exact on a free body), makes the run fail in every master
+    instead of running another method."""
+    masters.require(master)
+    fmu = packed(body)
+    declared = declared_methods(fmu)
+    h, n, load, load_at, outputs = experiment(body)
+    for m in sorted({min(declared) - 1, max(declared) + 1} | (declared - offered_methods(fmu))):
+        skip_unless_settable(master, fmu, m)
+        with pytest.raises(masters.Refused):
+            masters.run(master, fmu, h, 3, [Instance("body", outputs, load, load_at, ints={"method": m})])
 
 
 @pytest.mark.parametrize("body,method", METHOD_RUNS)
@@ -136,7 +179,7 @@ def test_masters_agree_to_round_off_and_apply_the_method(master, body, method):
     assert (scale > 0).all()
     diff = (np.abs(ours - fmpy_run).max(axis=0) / scale).max()
     assert diff <= NEWTON.get((body, method), ROUND_OFF), f"{master} vs fmpy, {body} method {method}: {diff:.2e} of the peak"
-    for other in declared_methods(fmu) - {method}:
+    for other in offered_methods(fmu) - {method}:
         apart = (np.abs(single("fmpy", body, other) - ours).max(axis=0) / scale).max()
         assert apart > DIFFERS, f"{master} {body}: method {method} gives method {other}'s result ({apart:.1e})"
 
