@@ -10,7 +10,7 @@ pub use super::model_error::{ModelError, StepRefused, TimeError};
 use super::scene_io::{ResourceError, Resources, load_resources};
 use super::snapshot::Snapshot;
 pub use super::time::{check_step_times, time_tolerance};
-use super::vars::{Causality, Kind, VarTable, method_from_value, method_name};
+use super::vars::{Causality, Kind, VarTable, method_name};
 use crate::scene::Scene;
 use crate::solver::{self, Method, Options, Solver, SolverError};
 
@@ -156,7 +156,7 @@ impl Model {
             return Err(ModelError::WrongType {
                 name: var.name.clone(),
                 vr,
-                is: "an Enumeration",
+                is: "an Integer",
                 use_instead: "set it with fmi2SetInteger",
             });
         }
@@ -235,7 +235,7 @@ impl Model {
         Ok(())
     }
 
-    /// Set the Integer (Enumeration) variable `method`.
+    /// Set the Integer variable `method`.
     pub fn set_integer(&mut self, vr: u32, v: i32, phase: Phase) -> Result<(), ModelError> {
         let var = self.var(vr)?;
         if !var.is_integer() {
@@ -247,18 +247,19 @@ impl Model {
             });
         }
         check_settable(var, phase)?;
-        let Some(m) = method_from_value(v).filter(|m| self.table.methods().contains(m)) else {
+        let m = self.table.method_for(v).map_err(|why| {
             let offered: Vec<String> = self
                 .table
                 .methods()
                 .iter()
                 .map(|&m| format!("{}={}", method_name(m), m as i32))
                 .collect();
-            return Err(ModelError::MethodNotOffered {
+            ModelError::MethodNotOffered {
                 value: v,
+                why,
                 offered: offered.join(", "),
-            });
-        };
+            }
+        })?;
         if m != self.method {
             self.method = m;
             self.dirty = true;
@@ -297,7 +298,7 @@ impl Model {
                     return Err(ModelError::WrongType {
                         name: var.name.clone(),
                         vr,
-                        is: "an Enumeration",
+                        is: "an Integer",
                         use_instead: "get it with fmi2GetInteger",
                     });
                 }
@@ -332,7 +333,7 @@ impl Model {
         Ok(())
     }
 
-    /// Get the Integer (Enumeration) `method`.
+    /// Get the Integer `method`.
     pub fn get_integer(&self, vr: u32) -> Result<i32, ModelError> {
         let var = self.var(vr)?;
         if !var.is_integer() {
@@ -542,9 +543,10 @@ impl Model {
                 have: self.loads.len(),
             });
         }
-        let method = method_from_value(snap.method)
-            .filter(|m| self.table.methods().contains(m))
-            .ok_or(ModelError::StateMethod(snap.method))?;
+        let method = self
+            .table
+            .method_for(snap.method)
+            .map_err(|_| ModelError::StateMethod(snap.method))?;
         let params_differ = method != self.method
             || snap.rho_inf != self.opts.rho_inf
             || snap.gravity != self.scene.gravity

@@ -1,12 +1,11 @@
 //! modelDescription.xml from the variable table, the scene and the pack options. Element
-//! order follows the FMI 2.0 schema (CoSimulation, UnitDefinitions, TypeDefinitions,
-//! LogCategories, DefaultExperiment, ModelVariables, ModelStructure); no time stamp, so
+//! order follows the FMI 2.0 schema (CoSimulation, UnitDefinitions, LogCategories, DefaultExperiment, ModelVariables, ModelStructure); no time stamp, so
 //! the same input gives the same bytes.
 
 use std::fmt::Write;
 
 use super::options::{SceneOptions, UnitSystem};
-use super::vars::{Causality, Kind, Quantity, VarTable, method_name};
+use super::vars::{Causality, Kind, Quantity, VarTable, method_range};
 use crate::scene::Scene;
 
 /// Log categories the FMU declares, with descriptions; the FMI layer uses the same list.
@@ -181,24 +180,6 @@ pub fn model_description(
         }
         x.push_str("  </UnitDefinitions>\n");
     }
-    x.push_str("  <TypeDefinitions>\n    <SimpleType name=\"Method\">\n      <Enumeration>\n");
-    for &m in table.methods() {
-        let what = match m {
-            crate::solver::Method::Explicit => {
-                "Radioss central difference, sub-cycled at 0.9 of the stable step"
-            }
-            crate::solver::Method::Implicit => "generalised-alpha (Chung-Hulbert), any step",
-            crate::solver::Method::Exact => "exact modal stepping (blocked bodies)",
-        };
-        let _ = writeln!(
-            x,
-            "        <Item name=\"{}\" value=\"{}\" description=\"{}\"/>",
-            method_name(m),
-            m as i32,
-            escape(what)
-        );
-    }
-    x.push_str("      </Enumeration>\n    </SimpleType>\n  </TypeDefinitions>\n");
     x.push_str("  <LogCategories>\n");
     for (name, desc) in LOG_CATEGORIES {
         let _ = writeln!(
@@ -232,9 +213,12 @@ pub fn model_description(
             escape(&v.description)
         );
         if v.kind == Kind::Method {
+            // An Integer, not an Enumeration: libcosim and ecos ignore Enumeration
+            // variables, so their users could not choose the method.
+            let (lo, hi) = method_range();
             let _ = writeln!(
                 x,
-                "      <Enumeration declaredType=\"Method\" start=\"{}\"/>",
+                "      <Integer min=\"{lo}\" max=\"{hi}\" start=\"{}\"/>",
                 table.default_method as i32
             );
         } else {

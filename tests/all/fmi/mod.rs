@@ -7,6 +7,7 @@ mod c_valgrind;
 mod call_sequence;
 mod header;
 mod host_abi;
+mod method_param;
 mod model_description;
 mod nonfinite;
 mod states;

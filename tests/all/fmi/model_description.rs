@@ -115,11 +115,22 @@ fn variables_follow_the_interface_names() {
     ] {
         assert!(fnames.contains(&n), "{n}");
     }
+    // `method` is an Integer 1..3 (issue 15: libcosim and ecos ignore Enumerations), its
+    // description names every value; a free body marks exact as refused.
+    assert!(!p.xml.contains("Enumeration") && !free.xml.contains("Enumeration"));
+    assert!(p.xml.contains("<Integer min=\"1\" max=\"3\" start=\"3\"/>"));
     assert!(
-        free.xml.contains("<Item name=\"implicit\" value=\"2\"")
-            && !free.xml.contains("name=\"exact\"")
+        free.xml
+            .contains("<Integer min=\"1\" max=\"3\" start=\"2\"/>")
     );
-    assert!(p.xml.contains("<Item name=\"exact\" value=\"3\""));
+    let desc = |t: &fxbody::fmu::vars::VarTable| t.vars[0].description.clone();
+    for v in ["1 = explicit", "2 = implicit", "3 = exact"] {
+        assert!(
+            desc(&p.table).contains(v) && desc(&free.table).contains(v),
+            "{v}"
+        );
+    }
+    assert!(desc(&free.table).contains("refused here") && !desc(&p.table).contains("refused"));
 }
 
 #[test]
