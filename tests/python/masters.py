@@ -17,6 +17,8 @@ import numpy as np
 import pytest
 
 MASTERS = ["fmpy", "libcosim", "ecos"]
+# ecos's log level; ecos 0.7 shows the FMU's error messages at "debug" only.
+ECOS_LOG = "warn"
 
 
 @dataclass
@@ -172,7 +174,7 @@ def _libcosim(fmu, h, n, instances):
 def _ecos(fmu, h, n, instances):
     from ecospy import EcosLib, EcosSimulation, EcosSimulationStructure
 
-    EcosLib.set_log_level("warn")
+    EcosLib.set_log_level(ECOS_LOG)
     ss = EcosSimulationStructure()
     params = {}
     for i in instances:
