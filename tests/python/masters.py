@@ -64,23 +64,6 @@ def method_variable(fmu):
     return next(v for v in md.modelVariables if v.name == "method")
 
 
-def skip_unless_settable(master, fmu, method):
-    """libcosim and ecos drop an FMI Enumeration parameter (they run the default
-    method whatever is set): until `method` is an Integer, such a run would not test the
-    method it names."""
-    v = method_variable(fmu)
-    if master != "fmpy" and v.type == "Enumeration" and method != int(v.start):
-        pytest.skip(f"{master} ignores `method` while it is an FMI Enumeration (issue 15 item 1)")
-
-
-def method_param(master, fmu, method):
-    """{"method": method}, or nothing where the master cannot set it and it is the default."""
-    v = method_variable(fmu)
-    if master != "fmpy" and v.type == "Enumeration" and method == int(v.start):
-        return {}
-    return {"method": method}
-
-
 def versions():
     """The master packages' versions, for messages and the report."""
     from importlib.metadata import version

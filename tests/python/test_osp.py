@@ -134,7 +134,6 @@ def test_libcosim_runs_two_bodies_connected_by_ports(osp_pair, method):
     from libcosimpy.CosimObserver import CosimObserver
 
     work, fmu, osp = osp_pair
-    masters.skip_unless_settable("libcosim", fmu, method)
     log_output_level(CosimLogLevel.WARNING)
     found = groups(osp)
     velocity = port_group(found, "LinearVelocity", [f"{NODE}.v{a}" for a in "xyz"])
