@@ -133,11 +133,12 @@ impl Model {
         self.loads_dirty = true;
         self.rates_applied = true;
         Ok(Some(format!(
-            "built the {} solver: {} local modes, {} exposed nodes, rho_inf {}",
+            "built the {} solver: {} local modes, {} exposed nodes, rho_inf {}, damping.ratio {}",
             method_name(self.method),
             self.scene.body.nl(),
             self.scene.nodes.len(),
-            self.opts.rho_inf
+            self.opts.rho_inf,
+            self.opts.damping_ratio
         )))
     }
 
@@ -170,6 +171,9 @@ impl Model {
         if var.kind == Kind::RhoInf && !(0.0..=1.0).contains(&v) {
             return Err(ModelError::RhoInf(v));
         }
+        if var.kind == Kind::DampingRatio && v < 0.0 {
+            return Err(ModelError::DampingRatio(v));
+        }
         Ok(())
     }
 
@@ -192,6 +196,10 @@ impl Model {
         match var.kind {
             Kind::RhoInf => {
                 self.opts.rho_inf = v;
+                self.dirty = true;
+            }
+            Kind::DampingRatio => {
+                self.opts.damping_ratio = v;
                 self.dirty = true;
             }
             Kind::Gravity(c) => {
@@ -303,6 +311,7 @@ impl Model {
                     });
                 }
                 Kind::RhoInf => self.opts.rho_inf,
+                Kind::DampingRatio => self.opts.damping_ratio,
                 Kind::Gravity(c) => self.scene.gravity[c],
                 Kind::V0(c) => self.scene.v0[c],
                 Kind::W0(c) => self.scene.w0[c],
@@ -507,6 +516,7 @@ impl Model {
             phase,
             method: self.method as i32,
             rho_inf: self.opts.rho_inf,
+            damping_ratio: self.opts.damping_ratio,
             gravity: self.scene.gravity,
             v0: self.scene.v0,
             w0: self.scene.w0,
@@ -549,11 +559,13 @@ impl Model {
             .map_err(|_| ModelError::StateMethod(snap.method))?;
         let params_differ = method != self.method
             || snap.rho_inf != self.opts.rho_inf
+            || snap.damping_ratio != self.opts.damping_ratio
             || snap.gravity != self.scene.gravity
             || snap.v0 != self.scene.v0
             || snap.w0 != self.scene.w0;
         self.method = method;
         self.opts.rho_inf = snap.rho_inf;
+        self.opts.damping_ratio = snap.damping_ratio;
         self.scene.gravity = snap.gravity;
         self.scene.v0 = snap.v0;
         self.scene.w0 = snap.w0;

@@ -112,6 +112,9 @@ pub enum ModelError {
     /// rho_inf outside [0, 1].
     #[error("rho_inf must be in [0, 1], got {}", num(*.0))]
     RhoInf(f64),
+    /// A negative added damping ratio (it would feed energy in).
+    #[error("damping.ratio must be >= 0 (a negative ratio feeds energy in), got {}", num(*.0))]
+    DampingRatio(f64),
     /// A method value not offered for this body.
     #[error("method: {value} is not offered for this body: {why} (offered: {offered})")]
     MethodNotOffered {

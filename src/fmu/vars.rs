@@ -45,6 +45,8 @@ pub enum Kind {
     Method,
     /// Generalised-alpha spectral radius at infinite frequency.
     RhoInf,
+    /// Added modal damping ratio on every local mode.
+    DampingRatio,
     /// Gravity component (free bodies).
     Gravity(usize),
     /// Initial body velocity component (free bodies).
@@ -164,6 +166,14 @@ impl VarTable {
             Kind::RhoInf,
             Quantity::None,
             "Implicit method: spectral radius at infinite frequency, 0..1".into(),
+        );
+        push(
+            "damping.ratio".into(),
+            Parameter,
+            Some(Options::default().damping_ratio),
+            Kind::DampingRatio,
+            Quantity::None,
+            "Added modal damping ratio on every local mode, on top of the file's Rayleigh damping, every method (>= 0; 0.02 is 2% of critical)".into(),
         );
         if free {
             for (what, quantity, desc, mk) in [

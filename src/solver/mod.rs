@@ -16,6 +16,7 @@
 
 use crate::scene::Scene;
 
+pub mod damping;
 mod dense;
 pub mod exact;
 pub mod explicit;
@@ -50,6 +51,9 @@ pub struct Options {
     pub dt_factor: f64,
     /// Sub-cycle the explicit method (tests switch it off to show the instability).
     pub subcycle: bool,
+    /// Added modal damping ratio on every local mode, on top of Rayleigh (the FMU
+    /// parameter `damping.ratio`; [`damping`] is its one definition).
+    pub damping_ratio: f64,
 }
 
 impl Default for Options {
@@ -58,6 +62,7 @@ impl Default for Options {
             rho_inf: 0.9,
             dt_factor: 0.9,
             subcycle: true,
+            damping_ratio: 0.0,
         }
     }
 }
@@ -266,8 +271,8 @@ pub fn build(
         };
     }
     match method {
-        Method::Exact => Ok(Box::new(Exact::new(scene)?)),
-        Method::Implicit => Ok(Box::new(Implicit::new(scene, opts.rho_inf)?)),
+        Method::Exact => Ok(Box::new(Exact::new(scene, opts)?)),
+        Method::Implicit => Ok(Box::new(Implicit::new(scene, opts)?)),
         Method::Explicit => Ok(Box::new(Explicit::new(scene, opts)?)),
     }
 }

@@ -206,6 +206,11 @@ pub(crate) struct Model {
     /// Rayleigh alpha (mass) and beta (stiffness).
     pub ray_a: f64,
     pub ray_b: f64,
+    /// The added modal damping on the local coordinates, applied where `beta K_L` is
+    /// ([`super::damping::LocalDamping::added_matrix`]); `None` without it.
+    pub c_add: Option<DMatrix<f64>>,
+    /// The explicit scheme's stable step with this damping.
+    pub dt_fx: f64,
     /// Rigid modes at the exposed nodes (`6 m x nr`), row-major: row `r` is
     /// `phi_r_rows[r * nr..(r + 1) * nr]`, so that the per-node sums of the outputs and
     /// of the load projection read contiguous memory.
@@ -228,8 +233,9 @@ pub(crate) struct Model {
 }
 
 impl Model {
-    /// Check the body and collect what the methods need.
-    pub fn new(scene: &Scene) -> Result<Model, SolverError> {
+    /// Check the body and collect what the methods need (`damping_ratio`: the added
+    /// modal damping ratio, [`super::damping`]).
+    pub fn new(scene: &Scene, damping_ratio: f64) -> Result<Model, SolverError> {
         let body = &scene.body;
         let bad = |why: String| SolverError::Singular(why);
         if body.iblo {
@@ -292,7 +298,7 @@ impl Model {
             .fold(f64::INFINITY, f64::min)
             * 2.0
             * std::f64::consts::PI;
-        let damping = body.damping.unwrap_or_default();
+        let damping = super::damping::LocalDamping::new(body, damping_ratio)?;
         let mass_scale = (0..12).map(|i| body.m_r[(i, i)].abs()).fold(0.0, f64::max);
         if mass_scale <= 0.0 || !mass_scale.is_finite() {
             return Err(bad(
@@ -321,6 +327,8 @@ impl Model {
             k_l: body.k_l.clone(),
             ray_a: damping.alpha,
             ray_b: damping.beta,
+            c_add: damping.added_matrix(body),
+            dt_fx: damping.explicit_stable_step(body),
             x0,
             s_grav,
             g_r,
