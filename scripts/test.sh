@@ -8,7 +8,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 if [ ! -x .venv/bin/python ] || ! cmp -s requirements-test.txt .venv/.requirements; then
-    python3 -m venv .venv
+    # Resolved, so that a .venv symlink to a shared venv is updated in place.
+    python3 -m venv "$(readlink -f .venv)"
     .venv/bin/pip install --quiet --disable-pip-version-check -r requirements-test.txt
     cp requirements-test.txt .venv/.requirements
 fi
