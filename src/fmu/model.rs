@@ -14,6 +14,8 @@ use super::vars::{Causality, Kind, VarTable, method_name};
 use crate::scene::Scene;
 use crate::solver::{self, Method, Options, Solver, SolverError};
 
+mod outputs;
+
 /// When a value is set: before the end of initialisation parameters may change; after
 /// it only inputs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -45,6 +47,10 @@ pub struct Model {
     pos: Vec<f64>,
     vel: Vec<f64>,
     acc: Vec<f64>,
+    /// Node rotation vectors and angular velocities (3 per exposed node), filled when
+    /// one is asked for.
+    rot: Vec<f64>,
+    omega: Vec<f64>,
     /// Rollback buffer and finiteness check of each step.
     guard: StepGuard,
     start_time: f64,
@@ -77,6 +83,8 @@ impl Model {
             pos: vec![0.0; 3 * m],
             vel: vec![0.0; 3 * m],
             acc: vec![0.0; 3 * m],
+            rot: vec![0.0; 3 * m],
+            omega: vec![0.0; 3 * m],
             guard: StepGuard::new(&scene),
             start_time: 0.0,
             stop_time: None,
@@ -275,73 +283,6 @@ impl Model {
         Ok(())
     }
 
-    /// Get Real values for `vrs` into `out` (same length). Needs a solver.
-    pub fn get_reals(&mut self, vrs: &[u32], out: &mut [f64]) -> Result<(), ModelError> {
-        self.ensure_solver()?;
-        // A truncated scene's positions depend on the same-instant loads (residual
-        // flexibility): pass changed loads before reading.
-        if self.scene.residual.is_some()
-            && self.loads_dirty
-            && let Some(s) = self.solver.as_mut()
-        {
-            s.set_loads(&self.loads)?;
-            self.loads_dirty = false;
-        }
-        let Some(s) = self.solver.as_ref() else {
-            return Err(ModelError::NoSolver);
-        };
-        // Only what is asked for: a master polling one position pays for that position
-        // (one row) when the method can give it alone, otherwise for the positions only;
-        // velocities likewise are computed only when one is asked for.
-        let (mut all_pos, mut all_vel) = (false, false);
-        for (&vr, o) in vrs.iter().zip(out.iter_mut()) {
-            let Some(var) = self.table.get(vr) else {
-                return Err(ModelError::UnknownReference {
-                    vr,
-                    count: self.table.vars.len(),
-                });
-            };
-            *o = match var.kind {
-                Kind::Method => {
-                    return Err(ModelError::WrongType {
-                        name: var.name.clone(),
-                        vr,
-                        is: "an Integer",
-                        use_instead: "get it with fmi2GetInteger",
-                    });
-                }
-                Kind::RhoInf => self.opts.rho_inf,
-                Kind::DampingRatio => self.opts.damping_ratio,
-                Kind::Gravity(c) => self.scene.gravity[c],
-                Kind::V0(c) => self.scene.v0[c],
-                Kind::W0(c) => self.scene.w0[c],
-                Kind::Load { node, comp } => self.loads[6 * node + comp],
-                Kind::Position { node, comp } => match s.position(3 * node + comp) {
-                    Some(x) => x,
-                    None => {
-                        if !all_pos {
-                            s.positions(&mut self.pos);
-                            all_pos = true;
-                        }
-                        self.pos[3 * node + comp]
-                    }
-                },
-                Kind::Velocity { node, comp } => {
-                    if !all_vel {
-                        s.velocities(&mut self.vel);
-                        all_vel = true;
-                    }
-                    self.vel[3 * node + comp]
-                }
-                Kind::KineticEnergy => s.kinetic_energy(),
-                Kind::StrainEnergy => s.strain_energy(),
-                Kind::FrameOrigin(c) => s.frame().map_or(f64::NAN, |f| f.origin[c]),
-                Kind::FrameP(k) => s.frame().map_or(f64::NAN, |f| f.p[k]),
-            };
-        }
-        Ok(())
-    }
-
     /// Get the Integer `method`.
     pub fn get_integer(&self, vr: u32) -> Result<i32, ModelError> {
         let var = self.var(vr)?;
@@ -401,30 +342,6 @@ impl Model {
         let slot = self.input_rate_slot(vr, order, v)?;
         self.rates[slot] = v;
         Ok(())
-    }
-
-    /// Derivative of order 1 or 2 of an output (fmi2GetRealOutputDerivatives): positions
-    /// give velocities and accelerations, velocities give accelerations (order 1).
-    pub fn get_output_derivative(&mut self, vr: u32, order: i32) -> Result<f64, ModelError> {
-        let var = self.var(vr)?;
-        let (kind, name) = (var.kind, &var.name);
-        let Some(s) = self.solver.as_ref() else {
-            return Err(ModelError::NoSolver);
-        };
-        match (kind, order) {
-            (Kind::Position { node, comp }, 1) => {
-                s.velocities(&mut self.vel);
-                Ok(self.vel[3 * node + comp])
-            }
-            (Kind::Position { node, comp }, 2) | (Kind::Velocity { node, comp }, 1) => {
-                s.accelerations(&mut self.acc);
-                Ok(self.acc[3 * node + comp])
-            }
-            _ => Err(ModelError::NoOutputDerivative {
-                name: name.clone(),
-                order,
-            }),
-        }
     }
 
     /// One communication step from `t` to `t + h`. `Ok(Some(text))` is a completed step

@@ -34,6 +34,8 @@ pub enum Quantity {
     Acceleration,
     /// Angular velocity.
     AngularVelocity,
+    /// Angle (rotation vectors).
+    Angle,
     /// Energy.
     Energy,
 }
@@ -69,6 +71,22 @@ pub enum Kind {
     },
     /// Velocity of exposed node `node`, component 0..3.
     Velocity {
+        /// Exposed node.
+        node: usize,
+        /// Component 0..3.
+        comp: usize,
+    },
+    /// Rotation vector of exposed node `node` from its initial orientation, component
+    /// 0..3 (nodes with rotational DOFs only).
+    Rotation {
+        /// Exposed node.
+        node: usize,
+        /// Component 0..3.
+        comp: usize,
+    },
+    /// Angular velocity of exposed node `node`, component 0..3 (nodes with rotational
+    /// DOFs only).
+    AngularVelocity {
         /// Exposed node.
         node: usize,
         /// Component 0..3.
@@ -290,6 +308,40 @@ impl VarTable {
                 }
             }
         }
+        // Rotations and angular velocities come last, so that adding them (issue 15) kept
+        // the value references of every earlier variable.
+        for (k, (&n, id)) in scene.nodes.iter().zip(&ids).enumerate() {
+            if !body.node_has_rotation(n) {
+                continue;
+            }
+            let rot_desc = if free {
+                "frame rotation then local small rotation"
+            } else {
+                "small rotation of the modes' rotation rows"
+            };
+            for (comp, axis) in AXES.iter().enumerate() {
+                push(
+                    format!("node_{id}.r{axis}"),
+                    Output,
+                    None,
+                    Kind::Rotation { node: k, comp },
+                    Quantity::Angle,
+                    format!(
+                        "Rotation of node {id} from its initial orientation as a rotation vector ({rot_desc}), global {axis}"
+                    ),
+                );
+            }
+            for (comp, axis) in AXES.iter().enumerate() {
+                push(
+                    format!("node_{id}.w{axis}"),
+                    Output,
+                    None,
+                    Kind::AngularVelocity { node: k, comp },
+                    Quantity::AngularVelocity,
+                    format!("Angular velocity of node {id}, global {axis}"),
+                );
+            }
+        }
         VarTable {
             vars,
             free,
@@ -332,10 +384,13 @@ impl VarTable {
     }
 
     /// Whether an output depends at the initial instant on `other` (a parameter):
-    /// velocities and kinetic energy of a free body depend on v0 and w0.
+    /// velocities, angular velocities and kinetic energy of a free body depend on v0
+    /// and w0.
     pub fn initial_dependency(&self, output: &Variable, other: &Variable) -> bool {
-        matches!(output.kind, Kind::Velocity { .. } | Kind::KineticEnergy)
-            && matches!(other.kind, Kind::V0(_) | Kind::W0(_))
+        matches!(
+            output.kind,
+            Kind::Velocity { .. } | Kind::AngularVelocity { .. } | Kind::KineticEnergy
+        ) && matches!(other.kind, Kind::V0(_) | Kind::W0(_))
     }
 }
 

@@ -111,9 +111,36 @@ fn unit(q: Quantity, u: UnitSystem) -> Option<(&'static str, [i32; 3], f64)> {
         (Acceleration, Si) => ("m/s2", [0, 1, -2], 1.0),
         (Acceleration, MmTonneS) => ("mm/s2", [0, 1, -2], 1e-3),
         (AngularVelocity, _) => ("rad/s", [0, 0, -1], 1.0),
+        (Angle, _) => ("rad", [0, 0, 0], 1.0),
         (Energy, Si) => ("J", [1, 2, -2], 1.0),
         (Energy, MmTonneS) => ("mJ", [1, 2, -2], 1e-3),
     })
+}
+
+/// Whether output `i` of the table depends on the inputs at the same instant (a direct
+/// feedthrough; then on every load input). Without truncation none does: positions,
+/// velocities, rotations, energies and the frame are states of the second-order system.
+/// With a residual flexibility (pack --fmax), positions, rotations and the strain energy
+/// carry `R f`. The model description and the documentation page both read this.
+pub fn feeds_through(scene: &Scene, table: &VarTable, i: usize) -> bool {
+    scene.residual.is_some()
+        && matches!(
+            table.vars[i].kind,
+            Kind::Position { .. } | Kind::Rotation { .. } | Kind::StrainEnergy
+        )
+}
+
+/// What the model keeps of the body, in one sentence shared by the model description
+/// and the documentation page: the local modes, and the residual correction if any.
+pub fn modes_summary(scene: &Scene) -> String {
+    let nl = scene.body.nl();
+    match &scene.residual {
+        Some(r) => format!(
+            "{nl} local modes kept, residual correction of {} dropped modes",
+            r.dropped
+        ),
+        None => format!("{nl} local modes, no residual correction"),
+    }
 }
 
 /// The complete modelDescription.xml text.
@@ -127,9 +154,9 @@ pub fn model_description(
     let body = &scene.body;
     let kind = if table.free { "free" } else { "blocked" };
     let description = format!(
-        "Radioss flexible body ({kind}, {} nodes, {} local modes, {} exposed nodes), by fxbody",
+        "Radioss flexible body ({kind}, {} nodes, {}, {} exposed nodes), by fxbody",
         body.nnodes(),
-        body.nl(),
+        modes_summary(scene),
         scene.nodes.len()
     );
     x.push_str("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
@@ -165,7 +192,7 @@ pub fn model_description(
                         let _ = write!(base, " {k}=\"{e}\"");
                     }
                 }
-                if name == "rad/s" {
+                if name.starts_with("rad") {
                     base.push_str(" rad=\"1\"");
                 }
                 if factor != 1.0 {
@@ -237,20 +264,11 @@ pub fn model_description(
     let outputs: Vec<usize> = (0..table.vars.len())
         .filter(|&i| table.vars[i].causality == Causality::Output)
         .collect();
-    // Without truncation no output depends on an input at the same instant: positions,
-    // velocities, energies and the frame are states of the second-order system. With a
-    // residual flexibility (pack --fmax), positions and the strain energy carry R f.
+    let feeds = |i: usize| feeds_through(scene, table, i);
     let loads: Vec<String> = (0..table.vars.len())
         .filter(|&j| matches!(table.vars[j].kind, Kind::Load { .. }))
         .map(|j| (j + 1).to_string())
         .collect();
-    let feeds = |i: usize| {
-        scene.residual.is_some()
-            && matches!(
-                table.vars[i].kind,
-                Kind::Position { .. } | Kind::StrainEnergy
-            )
-    };
     for &i in &outputs {
         let deps = if feeds(i) {
             loads.join(" ")

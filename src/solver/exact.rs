@@ -81,6 +81,24 @@ impl Exact {
     fn state_len(&self) -> usize {
         1 + self.io.saved_len() + 2 * self.y.len()
     }
+
+    /// Node accelerations through the rows at offset `off` (0 translations, 3
+    /// rotations): modal accelerations from the equation of motion, recomputed for each
+    /// output value so that no workspace is needed (outputs are few, and not on the step).
+    fn node_accelerations(&self, off: usize, out: &mut [f64]) {
+        let n = out.len().min(3 * self.io.nodes);
+        for (i, o) in out[..n].iter_mut().enumerate() {
+            let row = self.io.row(i / 3, off + i % 3);
+            *o = (0..self.y.len())
+                .map(|j| {
+                    let a = self.io.force(j, self.time)
+                        - self.damp[j] * self.yd[j]
+                        - self.w2[j] * self.y[j];
+                    row[j] * a
+                })
+                .sum();
+        }
+    }
 }
 
 /// One exact step of every mode: `y, v <- c0..c3 (y, v, f0, fd)` and `c4..c7`, with the
@@ -190,24 +208,20 @@ impl Solver for Exact {
     }
 
     fn accelerations(&self, out: &mut [f64]) {
-        // Modal accelerations from the equation of motion, recomputed for each output
-        // value so that no workspace is needed (outputs are few, and not on the step).
-        let n = out.len().min(3 * self.io.nodes);
-        for (i, o) in out[..n].iter_mut().enumerate() {
-            let row = self.io.row(i / 3, i % 3);
-            *o = (0..self.y.len())
-                .map(|j| {
-                    let a = self.io.force(j, self.time)
-                        - self.damp[j] * self.yd[j]
-                        - self.w2[j] * self.y[j];
-                    row[j] * a
-                })
-                .sum();
-        }
+        self.node_accelerations(0, out);
     }
 
     fn rotation_rates(&self, out: &mut [f64]) {
         self.io.rotations(&self.yd, out);
+    }
+
+    fn rotations(&self, out: &mut [f64]) {
+        self.io.rotations(&self.y, out);
+    }
+
+    fn rotation_accelerations(&self, out: &mut [f64]) -> bool {
+        self.node_accelerations(3, out);
+        true
     }
 
     fn modal(&self) -> &[f64] {

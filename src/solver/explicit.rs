@@ -231,6 +231,15 @@ impl Solver for Explicit {
         self.io.rotations(&self.vout, out);
     }
 
+    fn rotations(&self, out: &mut [f64]) {
+        self.io.rotations(&self.q, out);
+    }
+
+    fn rotation_accelerations(&self, out: &mut [f64]) -> bool {
+        self.io.rotations(&self.acc, out);
+        true
+    }
+
     fn modal(&self) -> &[f64] {
         self.q.as_slice()
     }

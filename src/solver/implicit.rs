@@ -239,6 +239,15 @@ impl Solver for Implicit {
         self.io.rotations(&self.v, out);
     }
 
+    fn rotations(&self, out: &mut [f64]) {
+        self.io.rotations(&self.y, out);
+    }
+
+    fn rotation_accelerations(&self, out: &mut [f64]) -> bool {
+        self.io.rotations(&self.a, out);
+        true
+    }
+
     fn modal(&self) -> &[f64] {
         self.alpha.get(&self.basis, &self.y)
     }

@@ -187,6 +187,18 @@ pub trait Solver: Send {
     fn accelerations(&self, out: &mut [f64]);
     /// Global rotation rates of the exposed nodes (3 per node; zeros without rotational DOFs).
     fn rotation_rates(&self, out: &mut [f64]);
+    /// Rotation of each exposed node from its initial orientation, as a rotation vector
+    /// (axis times angle, global frame, angle at most pi; 3 per node, zeros without
+    /// rotational DOFs). Blocked bodies: the small rotation of the rotational rows, whose
+    /// rate is [`Solver::rotation_rates`]. Free bodies: the frame's rotation `P P0^T`
+    /// followed by the local small rotation `P sum_j alpha_j Phi_L,j(n)_rot`.
+    fn rotations(&self, out: &mut [f64]);
+    /// Global angular accelerations of the exposed nodes (3 per node), the time
+    /// derivative of [`Solver::rotation_rates`] where the method has it exactly (blocked
+    /// bodies); `false` (and `out` untouched) where it does not.
+    fn rotation_accelerations(&self, _out: &mut [f64]) -> bool {
+        false
+    }
     /// Local modal coordinates alpha.
     fn modal(&self) -> &[f64];
     /// Strain energy `1/2 alpha^T K_L alpha`.

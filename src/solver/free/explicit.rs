@@ -430,6 +430,10 @@ impl Solver for Explicit {
         self.m.positions(&self.q, &self.p, out);
     }
 
+    fn rotations(&self, out: &mut [f64]) {
+        self.m.rotations(&self.q, &self.p, out);
+    }
+
     fn velocities(&self, out: &mut [f64]) {
         // Without allocation: map coordinate by coordinate.
         for k in 0..self.m.nexp.min(out.len() / 3) {

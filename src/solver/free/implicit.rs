@@ -417,6 +417,10 @@ impl Solver for Implicit {
         self.m.positions(&self.q, &self.p, out);
     }
 
+    fn rotations(&self, out: &mut [f64]) {
+        self.m.rotations(&self.q, &self.p, out);
+    }
+
     fn velocities(&self, out: &mut [f64]) {
         self.m.fields(&self.v, &self.p, out);
     }

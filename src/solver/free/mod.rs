@@ -515,6 +515,37 @@ impl Model {
         }
     }
 
+    /// Node rotation vectors (FORMULATION.md section 9): the frame's rotation
+    /// `P P0^T` followed by the local small rotation `P theta_l`,
+    /// `theta_l = sum_j alpha_j Phi_L,j(n)_rot`, i.e. `log(exp([P theta_l]) P P0^T)`.
+    /// P satisfies its constraints only to their tolerance: the rotation is read
+    /// through a unit quaternion, which absorbs that drift. Zeros for nodes without
+    /// rotational DOFs (Irot = 0).
+    pub fn rotations(&self, q: &DVector<f64>, p: &Matrix3<f64>, out: &mut [f64]) {
+        let rf = p * self.p0.transpose();
+        let (nr, nl) = (self.nr, self.nl);
+        for k in 0..self.nexp.min(out.len() / 3) {
+            if !self.irot {
+                out[3 * k..3 * k + 3].fill(0.0);
+                continue;
+            }
+            let b = 6 * k + 3;
+            let mut loc = Vector3::zeros();
+            for c in 0..3 {
+                let pl = &self.phi_l_rows[(b + c) * nl..(b + c + 1) * nl];
+                loc[c] = pl
+                    .iter()
+                    .zip(&q.as_slice()[nr..])
+                    .map(|(f, a)| a * f)
+                    .sum::<f64>();
+            }
+            let theta = p * loc;
+            let r = nalgebra::Rotation3::from_scaled_axis(theta).matrix() * rf;
+            let v = rotation_vector(&r);
+            out[3 * k..3 * k + 3].copy_from_slice(v.as_slice());
+        }
+    }
+
     /// The frame output: origin of L0 and P row-major.
     pub fn frame(&self, q: &DVector<f64>, p: &Matrix3<f64>) -> super::Frame {
         let o = self.origin0 + Vector3::new(q[9], q[10], q[11]);
@@ -545,6 +576,23 @@ impl Model {
     pub fn check_loads(&self, what: &'static str, x: &[f64]) -> Result<(), SolverError> {
         super::loads::check(what, x, 6 * self.nexp)
     }
+}
+
+/// The rotation vector (axis times angle, angle in [0, pi]) of a rotation matrix, by
+/// way of the nearest unit quaternion `(w, v)`: `2 atan2(|v|, w) v / |v|`, accurate at
+/// small angles (where `acos` of the trace loses half the digits) and near pi.
+pub(crate) fn rotation_vector(r: &Matrix3<f64>) -> Vector3<f64> {
+    let q = nalgebra::UnitQuaternion::from_matrix(r);
+    let (mut w, mut v) = (q.scalar(), q.vector().into_owned());
+    if w < 0.0 {
+        w = -w;
+        v = -v;
+    }
+    let s = v.norm();
+    if s == 0.0 {
+        return Vector3::zeros();
+    }
+    v * (2.0 * s.atan2(w) / s)
 }
 
 /// `out = sum_i w_i blocks_i` entry by entry, the terms added in the order i = 0..9

@@ -10,5 +10,6 @@ mod host_abi;
 mod method_param;
 mod model_description;
 mod nonfinite;
+mod rotation_outputs;
 mod states;
 mod threads;

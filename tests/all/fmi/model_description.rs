@@ -101,8 +101,9 @@ fn variables_follow_the_interface_names() {
     }
     assert!(names.contains(&"node_101.fx") && !names.contains(&"node_101.mx"));
     assert!(!names.contains(&"gravity.x") && !names.contains(&"frame.P11"));
-    // 21 nodes: 20 with 6 loads + 1 with 3, 6 outputs each, 3 parameters, 2 energies.
-    assert_eq!(names.len(), 3 + 20 * 6 + 3 + 21 * 6 + 2);
+    // 21 nodes: 20 with 6 loads + 1 with 3, 6 outputs each and 6 more (rotations,
+    // angular velocities) for the 20 with rotational DOFs, 3 parameters, 2 energies.
+    assert_eq!(names.len(), 3 + 20 * 6 + 3 + 21 * 6 + 20 * 6 + 2);
     let free = prepare(&request("freefree")).unwrap();
     let fnames: Vec<&str> = free.table.vars.iter().map(|v| v.name.as_str()).collect();
     for n in [

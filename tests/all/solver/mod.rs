@@ -5,3 +5,4 @@ mod exact;
 mod fe_reference;
 mod integrators;
 mod outputs;
+mod rotations;
