@@ -37,14 +37,14 @@ METHOD_RUNS = [(b, m) for b, c in CASES.items() for m in c["floors"]]
 # Two runs of one library with the same inputs differ only where the masters hand the
 # FMU a different communication time: libcosim counts whole nanoseconds and converts,
 # fmpy and ecos add h up in doubles. The FMU adopts the master's time (and the linear
-# load model evaluates at it), so the results differ by round-off, accumulated over the
-# run -- measured with ecos: 0 (bit-identical to fmpy); with libcosim: 8e-14 of the peak
-# (exact), 1.3e-14 (implicit), 1.5e-12 (explicit, blocked: thousands of sub-cycles per
-# run), 7e-15 (explicit, free) -- except through the free implicit method's Newton
-# iteration, which stops at a tolerance (1e-11 on the accelerations) and may stop one
-# iteration apart: measured 2.5e-9 of the peak velocity.
-ROUND_OFF = 1e-11
-NEWTON = {("freefree", IMPLICIT): 1e-8}
+# load model evaluates at it), so the results differ by round-off accumulated over the
+# run, each output relative to its own peak -- measured with ecos: 0 (bit-identical to
+# fmpy); with libcosim: up to 1.9e-11 (explicit, blocked: thousands of sub-cycles; the
+# angular velocity, rich in high modes, is the worst) -- except through the free implicit
+# method's Newton iteration, which stops at a tolerance (1e-11 on the accelerations) and
+# may stop one iteration apart: measured 1.7e-8 (angular velocity), 2.5e-9 (velocity).
+ROUND_OFF = 1e-10
+NEWTON = {("freefree", IMPLICIT): 1e-7}
 # A different method changes the history far beyond that (measured >= 1e-5 of the peak).
 DIFFERS = 1e-7
 
@@ -118,12 +118,15 @@ def experiment(body, amplitude_scale=1.0):
     else:
         end = resp["duration"] - 1e-9 * h
         load_at = lambda time: amp if time < end else 0.0  # noqa: E731
-    return h, len(t) - 1, f"node_{tip}.{resp['load_dof']}", load_at, [f"node_{tip}.y", f"node_{tip}.vy"]
+    # Position and velocity along the load, and the rotation and angular velocity about
+    # z (the bending the load causes), read back in every master.
+    outputs = [f"node_{tip}.{q}" for q in ("y", "vy", "rz", "wz")]
+    return h, len(t) - 1, f"node_{tip}.{resp['load_dof']}", load_at, outputs
 
 
 @functools.lru_cache(maxsize=None)
 def single(master, body, method):
-    """One instance of `body` with `method` in `master`: outputs (steps, 2)."""
+    """One instance of `body` with `method` in `master`: outputs (steps, 4)."""
     fmu = packed(body)
     h, n, load, load_at, outputs = experiment(body)
     inst = Instance("body", outputs, load, load_at, ints={"method": method})
