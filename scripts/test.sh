@@ -2,13 +2,15 @@
 # The whole test suite: formatting and lints (the workspace's [lints]: unsafe only at the
 # FMI boundary and in the host, every unsafe block with a SAFETY comment, every public
 # item documented), Rust (unit, integration, doc tests of every package) and Python
-# (fixture generator checks, fmpy tests). Creates ./.venv with requirements-test.txt and
-# ./.venv-nastran with requirements-nastran.txt on first use.
+# (fixture generator checks, the FMUs in fmpy, libcosim and ecos, the Dask sweep, the
+# README's snippets, the import from pyNastran-written files). Creates ./.venv with
+# requirements-test.txt and ./.venv-nastran with requirements-nastran.txt on first use.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 if [ ! -x .venv/bin/python ] || ! cmp -s requirements-test.txt .venv/.requirements; then
-    python3 -m venv .venv
+    # Resolved, so that a .venv symlink to a shared venv is updated in place.
+    python3 -m venv "$(readlink -f .venv)"
     .venv/bin/pip install --quiet --disable-pip-version-check -r requirements-test.txt
     cp requirements-test.txt .venv/.requirements
 fi
@@ -27,4 +29,6 @@ cargo fmt --all --check
 cargo clippy --release --workspace --all-targets -- -D warnings
 cargo build --release --workspace
 cargo test --release --workspace
-.venv/bin/python -m pytest -q tests/python fixtures
+# ecos (ecospy) needs libtbb.so.12, which PyPI's tbb installs into the venv's lib/.
+LD_LIBRARY_PATH="$PWD/.venv/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}" \
+    .venv/bin/python -m pytest -q tests/python fixtures
