@@ -133,10 +133,10 @@ impl Model {
         self.loads_dirty = true;
         self.rates_applied = true;
         Ok(Some(format!(
-            "built the {} solver: {} local modes, {} exposed nodes, rho_inf {}",
+            "built the {} solver: {}, {}, rho_inf {}",
             method_name(self.method),
-            self.scene.body.nl(),
-            self.scene.nodes.len(),
+            crate::num::count(self.scene.body.nl(), "local mode"),
+            crate::num::count(self.scene.nodes.len(), "exposed node"),
             self.opts.rho_inf
         )))
     }

@@ -7,6 +7,7 @@ use std::fmt::Write;
 
 use super::options::{SceneOptions, UnitSystem};
 use super::vars::{Causality, Kind, Quantity, VarTable, method_name};
+use crate::num::count;
 use crate::scene::Scene;
 
 /// Log categories the FMU declares, with descriptions; the FMI layer uses the same list.
@@ -128,10 +129,10 @@ pub fn model_description(
     let body = &scene.body;
     let kind = if table.free { "free" } else { "blocked" };
     let description = format!(
-        "Radioss flexible body ({kind}, {} nodes, {} local modes, {} exposed nodes), by fxbody",
-        body.nnodes(),
-        body.nl(),
-        scene.nodes.len()
+        "Radioss flexible body ({kind}, {}, {}, {}), by fxbody",
+        count(body.nnodes(), "node"),
+        count(body.nl(), "local mode"),
+        count(scene.nodes.len(), "exposed node")
     );
     x.push_str("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
     let _ = writeln!(

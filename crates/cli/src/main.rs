@@ -6,6 +6,7 @@ mod demo;
 mod import;
 mod info;
 mod info_modes;
+mod nodes;
 mod pack;
 mod reduce;
 

@@ -5,6 +5,7 @@
 use std::path::PathBuf;
 
 use fxbody::fmu::pack::{Fmax, PackRequest, find_library, pack_with, refuse_overwrite};
+use fxbody::num::count;
 
 /// Arguments of `pack`.
 #[derive(Debug, clap::Args)]
@@ -19,9 +20,10 @@ pub struct PackArgs {
     /// rigid modes (frame origin at 0).
     #[arg(long)]
     pub coords: Option<PathBuf>,
-    /// Exposed node IDs, comma-separated (default: all nodes of the body).
-    #[arg(long, value_delimiter = ',', conflicts_with = "nodes_file")]
-    pub nodes: Option<Vec<i64>>,
+    /// Exposed node IDs, separated by commas and/or blanks (default: all nodes of the
+    /// body).
+    #[arg(long, value_parser = crate::nodes::id_list, conflicts_with = "nodes_file")]
+    pub nodes: Option<crate::nodes::NodeIds>,
     /// Exposed node IDs from a file: one ID per line or comma-separated, `#` starts a
     /// comment.
     #[arg(long)]
@@ -51,7 +53,7 @@ pub fn run(args: &PackArgs) -> Result<(), String> {
     }
     let nodes = match &args.nodes_file {
         Some(p) => Some(read_nodes_file(p)?),
-        None => args.nodes.clone(),
+        None => args.nodes.clone().map(|n| n.0),
     };
     let fmax = match args.fmax.as_deref() {
         None => None,
@@ -80,12 +82,12 @@ pub fn run(args: &PackArgs) -> Result<(), String> {
         .map(|m| m.len())
         .unwrap_or(0);
     println!(
-        "{}: model {} (GUID {}), {} exposed nodes, {} variables, {:.1} MB",
+        "{}: model {} (GUID {}), {}, {}, {:.1} MB",
         args.output.display(),
         p.options.model_identifier(),
         p.guid,
-        p.scene.nodes.len(),
-        p.table.vars.len(),
+        count(p.scene.nodes.len(), "exposed node"),
+        count(p.table.vars.len(), "variable"),
         size as f64 / 1e6
     );
     Ok(())

@@ -1,4 +1,5 @@
 //! The `fxbody` command run end to end as a user runs it.
 
+mod first_use;
 mod info;
 mod inputs;
