@@ -55,8 +55,16 @@ pub struct Model {
 impl Model {
     /// Read the resources folder and set up a model at its start values.
     pub fn from_resources(dir: &Path) -> Result<Model, ResourceError> {
-        let Resources { scene, guid, .. } = load_resources(dir)?;
-        Ok(Model::new(scene, guid))
+        let Resources {
+            scene,
+            guid,
+            options,
+        } = load_resources(dir)?;
+        let mut model = Model::new(scene, guid);
+        // `pack --method`: the start value the description declares.
+        model.table = model.table.with_default_method(options.method);
+        model.method = model.table.default_method;
+        Ok(model)
     }
 
     /// A model for a scene at its start values.

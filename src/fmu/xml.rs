@@ -98,7 +98,7 @@ fn nice(v: f64, up: bool) -> f64 {
 
 /// Unit name of a quantity in a unit system, with its SI base-unit exponents
 /// (kg, m, s) and factor to SI.
-fn unit(q: Quantity, u: UnitSystem) -> Option<(&'static str, [i32; 3], f64)> {
+pub(crate) fn unit(q: Quantity, u: UnitSystem) -> Option<(&'static str, [i32; 3], f64)> {
     use Quantity::*;
     use UnitSystem::*;
     Some(match (q, u) {
@@ -116,6 +116,27 @@ fn unit(q: Quantity, u: UnitSystem) -> Option<(&'static str, [i32; 3], f64)> {
         (Energy, Si) => ("J", [1, 2, -2], 1.0),
         (Energy, MmTonneS) => ("mJ", [1, 2, -2], 1e-3),
     })
+}
+
+/// A `<Unit>` element (FMI 2.0's, which the OSP model description shares) for a unit of
+/// [`unit`], indented for `<UnitDefinitions>`.
+pub(crate) fn unit_element((name, [kg, m, s], factor): (&str, [i32; 3], f64)) -> String {
+    let mut base = String::new();
+    for (k, e) in [("kg", kg), ("m", m), ("s", s)] {
+        if e != 0 {
+            let _ = write!(base, " {k}=\"{e}\"");
+        }
+    }
+    if name == "rad/s" {
+        base.push_str(" rad=\"1\"");
+    }
+    if factor != 1.0 {
+        let _ = write!(base, " factor=\"{}\"", real(factor));
+    }
+    format!(
+        "    <Unit name=\"{}\">\n      <BaseUnit{base}/>\n    </Unit>\n",
+        escape(name)
+    )
 }
 
 /// The complete modelDescription.xml text.
@@ -156,28 +177,12 @@ pub fn model_description(
         let mut seen: Vec<&str> = Vec::new();
         x.push_str("  <UnitDefinitions>\n");
         for v in &table.vars {
-            if let Some((name, [kg, m, s], factor)) = unit(v.quantity, u) {
-                if seen.contains(&name) {
+            if let Some(def) = unit(v.quantity, u) {
+                if seen.contains(&def.0) {
                     continue;
                 }
-                seen.push(name);
-                let mut base = String::new();
-                for (k, e) in [("kg", kg), ("m", m), ("s", s)] {
-                    if e != 0 {
-                        let _ = write!(base, " {k}=\"{e}\"");
-                    }
-                }
-                if name == "rad/s" {
-                    base.push_str(" rad=\"1\"");
-                }
-                if factor != 1.0 {
-                    let _ = write!(base, " factor=\"{}\"", real(factor));
-                }
-                let _ = writeln!(
-                    x,
-                    "    <Unit name=\"{}\">\n      <BaseUnit{base}/>\n    </Unit>",
-                    escape(name)
-                );
+                seen.push(def.0);
+                x.push_str(&unit_element(def));
             }
         }
         x.push_str("  </UnitDefinitions>\n");
@@ -209,13 +214,22 @@ pub fn model_description(
         );
     }
     x.push_str("  </LogCategories>\n");
-    let (stop, step) = default_experiment(scene);
+    let (stop, step) = opts.experiment(scene);
     let _ = writeln!(
         x,
         "  <DefaultExperiment startTime=\"0.0\" stopTime=\"{}\" stepSize=\"{}\"/>",
         real(stop),
         real(step)
     );
+    if !opts.platforms.is_empty() {
+        // FMI 2.0 has no platform list; a tool annotation records what pack --binary added.
+        let _ = writeln!(
+            x,
+            "  <VendorAnnotations>\n    <Tool name=\"fxbody\">\n      <Platforms native=\"{}\" added=\"{}\"/>\n    </Tool>\n  </VendorAnnotations>",
+            super::platforms::NATIVE,
+            escape(&opts.platforms.join(" "))
+        );
+    }
     x.push_str("  <ModelVariables>\n");
     for (i, v) in table.vars.iter().enumerate() {
         let (causality, variability, initial) = match v.causality {

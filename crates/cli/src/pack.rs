@@ -1,10 +1,14 @@
 //! `fxbody pack FILE -o OUT.fmu [--coords DECK|CSV] [--nodes ID,...] [--name NAME]
-//! [--units NAME] [--lib PATH] [--nodes-file FILE] [--fmax HZ|auto]`: a flexible body as
-//! an FMI 2.0 co-simulation FMU.
+//! [--units NAME] [--lib PATH] [--nodes-file FILE] [--fmax HZ|auto] [--step H] [--stop T]
+//! [--method NAME] [--header FILE.h] [--binary PLATFORM=PATH]...`: a flexible body as an
+//! FMI 2.0 co-simulation FMU, with its OSP model description beside it.
 
 use std::path::PathBuf;
 
-use fxbody::fmu::pack::{Fmax, PackRequest, find_library, pack_with, refuse_overwrite};
+use fxbody::fmu::options::method_by_name;
+use fxbody::fmu::pack::{
+    Fmax, PackOptions, PackRequest, find_library, pack_opts, refuse_overwrite,
+};
 use fxbody::num::count;
 
 /// Arguments of `pack`.
@@ -43,6 +47,35 @@ pub struct PackArgs {
     /// executable).
     #[arg(long)]
     pub lib: Option<PathBuf>,
+    /// DefaultExperiment step size, s (default: derived from the lowest mode, at most
+    /// 1 ms); `--fmax auto` follows it.
+    #[arg(long)]
+    pub step: Option<f64>,
+    /// DefaultExperiment stop time, s (default: five periods of the lowest mode).
+    #[arg(long)]
+    pub stop: Option<f64>,
+    /// Start value of the `method` parameter: explicit, implicit or exact (exact: blocked
+    /// bodies only), for masters that cannot set parameters. Default: exact for blocked
+    /// bodies, implicit for free ones.
+    #[arg(long)]
+    pub method: Option<String>,
+    /// Also write a C header with the GUID and every variable's value reference.
+    #[arg(long)]
+    pub header: Option<PathBuf>,
+    /// Add a library built on another platform (`cargo build --release` there):
+    /// PLATFORM=PATH with an FMI 2.0 platform name (win32, win64, linux32, darwin32,
+    /// darwin64); repeatable.
+    #[arg(long, value_parser = binary_arg)]
+    pub binary: Vec<(String, PathBuf)>,
+}
+
+/// clap value parser of `--binary PLATFORM=PATH`.
+fn binary_arg(s: &str) -> Result<(String, PathBuf), String> {
+    let (p, path) = s
+        .split_once('=')
+        .ok_or_else(|| format!("expected PLATFORM=PATH, found '{s}'"))?;
+    fxbody::fmu::platforms::check_platform(p).map_err(|e| e.to_string())?;
+    Ok((p.to_string(), PathBuf::from(path)))
 }
 
 /// Run `pack`: a one-line summary on stdout, or the error message.
@@ -74,9 +107,32 @@ pub fn run(args: &PackArgs) -> Result<(), String> {
         name: args.name.clone(),
         units: args.units.clone(),
     };
-    let p = pack_with(&req, fmax, &lib, &args.output).map_err(|e| e.to_string())?;
+    let method = match args.method.as_deref() {
+        None => None,
+        Some(m) => Some(method_by_name(m).ok_or_else(|| {
+            format!("--method: expected explicit, implicit or exact, found '{m}'")
+        })?),
+    };
+    let popts = PackOptions {
+        fmax,
+        step: args.step,
+        stop: args.stop,
+        method,
+        binaries: args.binary.clone(),
+    };
+    if let Some(h) = &args.header {
+        refuse_overwrite(h, &[("body file", &args.file)]).map_err(|e| e.to_string())?;
+    }
+    let p = pack_opts(&req, &popts, &lib, &args.output).map_err(|e| e.to_string())?;
     for n in &p.notes {
         eprintln!("fxbody pack: {n}");
+    }
+    if let Some(h) = &args.header {
+        std::fs::write(
+            h,
+            fxbody::fmu::header::c_header(&p.table, &p.options, &p.guid),
+        )
+        .map_err(|e| format!("--header {}: cannot write: {e}", h.display()))?;
     }
     let size = std::fs::metadata(&args.output)
         .map(|m| m.len())

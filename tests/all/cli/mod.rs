@@ -3,3 +3,4 @@
 mod first_use;
 mod info;
 mod inputs;
+mod pack_extras;
