@@ -357,7 +357,7 @@ fmi2Status fmi2GetStringStatus(fmi2Component c, fmi2StatusKind s, fmi2String *va
 fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference *vr, size_t nvr, fmi2Real *value);
 
 /*
- Get Integer variables (the Enumeration `method`).
+ Get Integer variables (the parameter `method`).
 
  # Safety
  `c` is an instance; `vr` and `value` hold `nvr` elements.
@@ -401,7 +401,7 @@ fmi2Status fmi2SetReal(fmi2Component c,
                        const fmi2Real *value);
 
 /*
- Set Integer variables (the Enumeration `method`).
+ Set Integer variables (the parameter `method`).
 
  # Safety
  `c` is an instance; `vr` and `value` hold `nvr` elements.

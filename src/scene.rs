@@ -78,7 +78,9 @@ impl Scene {
         }
         let mut scene = self.clone();
         scene.body = Arc::new(t.body.clone());
-        scene.residual = Some(Arc::new(residual));
+        // Nothing dropped (fmax above every mode): no residual correction, and so no
+        // feedthrough to declare.
+        scene.residual = (residual.dropped > 0).then(|| Arc::new(residual));
         Ok((scene, t))
     }
 

@@ -38,7 +38,7 @@ pub unsafe extern "C" fn fmi2GetReal(
     })
 }
 
-/// Get Integer variables (the Enumeration `method`).
+/// Get Integer variables (the parameter `method`).
 ///
 /// # Safety
 /// `c` is an instance; `vr` and `value` hold `nvr` elements.
@@ -125,7 +125,7 @@ pub unsafe extern "C" fn fmi2SetReal(
     })
 }
 
-/// Set Integer variables (the Enumeration `method`).
+/// Set Integer variables (the parameter `method`).
 ///
 /// # Safety
 /// `c` is an instance; `vr` and `value` hold `nvr` elements.

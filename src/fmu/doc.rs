@@ -5,6 +5,7 @@ use std::fmt::Write;
 
 use super::options::SceneOptions;
 use super::vars::{Causality, VarTable, method_name};
+use super::xml::{feeds_through, modes_summary};
 use crate::scene::Scene;
 
 fn esc(s: &str) -> String {
@@ -26,15 +27,15 @@ pub fn index_html(scene: &Scene, table: &VarTable, opts: &SceneOptions, guid: &s
     let (stop, step) = opts.experiment(scene);
     let _ = write!(
         h,
-        "<p>A Radioss flexible body (/FXBODY) as an FMI 2.0 co-simulation unit, packed by fxbody {}.\
-         GUID {}.</p>\n<ul>\n<li>{} body, {} nodes, {} local modes ({} static), rotational DOFs: {}</li>\n\
+        "<p>A Radioss flexible body (/FXBODY) as an FMI 2.0 co-simulation unit, packed by fxbody {} \
+         (GUID {}).</p>\n<ul>\n<li>{} body, {} nodes, {} ({} static), rotational DOFs: {}</li>\n\
          <li>Damping: {}</li>\n<li>Explicit stable step (from the largest computed eigenfrequency {:.6e} Hz; stored Freq {:.6e} Hz): {:.6e} s</li>\n\
          <li>Default experiment: stop {} s, step {} s</li>\n<li>Methods: {}; default {}</li>\n<li>Units: {}</li>\n<li>Platforms: {}</li>\n</ul>\n",
         env!("CARGO_PKG_VERSION"),
         esc(guid),
         if table.free { "Free" } else { "Blocked" },
         b.nnodes(),
-        b.nl(),
+        modes_summary(scene),
         b.nbstat,
         if b.irot { "yes" } else { "no" },
         b.damping.map_or("none".to_string(), |d| format!(
@@ -61,7 +62,7 @@ pub fn index_html(scene: &Scene, table: &VarTable, opts: &SceneOptions, guid: &s
             .collect::<Vec<_>>()
             .join(", "),
     );
-    h.push_str("<h2>Eigenfrequencies of the local modes (Hz)</h2>\n<p>");
+    h.push_str("<h2>Eigenfrequencies of the kept local modes (Hz)</h2>\n<p>");
     let f: Vec<String> = b.frequencies_hz.iter().map(|f| format!("{f:.6}")).collect();
     h.push_str(&f.join(", "));
     h.push_str("</p>\n<h2>Exposed nodes</h2>\n<table border=\"1\"><tr><th>ID</th><th>x</th><th>y</th><th>z</th><th>rotations</th></tr>\n");
@@ -90,6 +91,35 @@ pub fn index_html(scene: &Scene, table: &VarTable, opts: &SceneOptions, guid: &s
             esc(&v.description)
         );
     }
-    h.push_str("</table>\n<p>Loads are in the global frame, held over a step or interpolated linearly when the master sets input derivatives. Outputs do not depend on same-instant inputs.</p>\n</body></html>\n");
+    h.push_str("</table>\n<p>Loads are in the global frame, held over a step or interpolated linearly when the master sets input derivatives.</p>\n");
+    dependencies(&mut h, scene, table);
+    h.push_str("</body></html>\n");
     h
+}
+
+/// The outputs that depend on same-instant inputs, from the function the model
+/// description's ModelStructure is written from ([`feeds_through`]).
+fn dependencies(h: &mut String, scene: &Scene, table: &VarTable) {
+    let name = |i: usize| esc(&table.vars[i].name);
+    let outputs: Vec<usize> = (0..table.vars.len())
+        .filter(|&i| table.vars[i].causality == Causality::Output && feeds_through(scene, table, i))
+        .collect();
+    if outputs.is_empty() {
+        h.push_str("<p>Outputs do not depend on same-instant inputs.</p>\n");
+        return;
+    }
+    let inputs: Vec<String> = (0..table.vars.len())
+        .filter(|&j| table.vars[j].causality == Causality::Input)
+        .map(name)
+        .collect();
+    h.push_str("<h2>Outputs that depend on same-instant inputs</h2>\n<p>The residual correction makes these outputs depend on every input at the same instant:</p>\n<table border=\"1\"><tr><th>output</th><th>depends on</th></tr>\n");
+    for i in outputs {
+        let _ = writeln!(
+            h,
+            "<tr><td>{}</td><td>{}</td></tr>",
+            name(i),
+            inputs.join(" ")
+        );
+    }
+    h.push_str("</table>\n");
 }

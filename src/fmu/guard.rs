@@ -114,9 +114,11 @@ impl StepGuard {
                 .map_or_else(|| format!("{kind:?}"), |v| v.name.clone())
         };
         type Fill = fn(&dyn Solver, &mut [f64]);
-        let outputs: [(Fill, &str); 2] = [
+        let outputs: [(Fill, &str); 4] = [
             (|s, o| s.positions(o), "position"),
             (|s, o| s.velocities(o), "velocity"),
+            (|s, o| s.rotations(o), "rotation"),
+            (|s, o| s.rotation_rates(o), "angular velocity"),
         ];
         for (fill, what) in outputs {
             fill(s, &mut self.out);
@@ -125,6 +127,8 @@ impl StepGuard {
                 return Some(match what {
                     "position" => named(Kind::Position { node, comp }),
                     "velocity" => named(Kind::Velocity { node, comp }),
+                    "rotation" => named(Kind::Rotation { node, comp }),
+                    "angular velocity" => named(Kind::AngularVelocity { node, comp }),
                     _ => format!(
                         "the acceleration of {}",
                         named(Kind::Position { node, comp })

@@ -10,9 +10,11 @@ pub use super::model_error::{ModelError, StepRefused, TimeError};
 use super::scene_io::{ResourceError, Resources, load_resources};
 use super::snapshot::Snapshot;
 pub use super::time::{check_step_times, time_tolerance};
-use super::vars::{Causality, Kind, VarTable, method_from_value, method_name};
+use super::vars::{Causality, Kind, VarTable, method_name};
 use crate::scene::Scene;
 use crate::solver::{self, Method, Options, Solver, SolverError};
+
+mod outputs;
 
 /// When a value is set: before the end of initialisation parameters may change; after
 /// it only inputs.
@@ -45,6 +47,10 @@ pub struct Model {
     pos: Vec<f64>,
     vel: Vec<f64>,
     acc: Vec<f64>,
+    /// Node rotation vectors and angular velocities (3 per exposed node), filled when
+    /// one is asked for.
+    rot: Vec<f64>,
+    omega: Vec<f64>,
     /// Rollback buffer and finiteness check of each step.
     guard: StepGuard,
     start_time: f64,
@@ -85,6 +91,8 @@ impl Model {
             pos: vec![0.0; 3 * m],
             vel: vec![0.0; 3 * m],
             acc: vec![0.0; 3 * m],
+            rot: vec![0.0; 3 * m],
+            omega: vec![0.0; 3 * m],
             guard: StepGuard::new(&scene),
             start_time: 0.0,
             stop_time: None,
@@ -141,11 +149,12 @@ impl Model {
         self.loads_dirty = true;
         self.rates_applied = true;
         Ok(Some(format!(
-            "built the {} solver: {}, {}, rho_inf {}",
+            "built the {} solver: {}, {}, rho_inf {}, damping.ratio {}",
             method_name(self.method),
             crate::num::count(self.scene.body.nl(), "local mode"),
             crate::num::count(self.scene.nodes.len(), "exposed node"),
-            self.opts.rho_inf
+            self.opts.rho_inf,
+            self.opts.damping_ratio
         )))
     }
 
@@ -164,7 +173,7 @@ impl Model {
             return Err(ModelError::WrongType {
                 name: var.name.clone(),
                 vr,
-                is: "an Enumeration",
+                is: "an Integer",
                 use_instead: "set it with fmi2SetInteger",
             });
         }
@@ -177,6 +186,9 @@ impl Model {
         }
         if var.kind == Kind::RhoInf && !(0.0..=1.0).contains(&v) {
             return Err(ModelError::RhoInf(v));
+        }
+        if var.kind == Kind::DampingRatio && v < 0.0 {
+            return Err(ModelError::DampingRatio(v));
         }
         Ok(())
     }
@@ -200,6 +212,10 @@ impl Model {
         match var.kind {
             Kind::RhoInf => {
                 self.opts.rho_inf = v;
+                self.dirty = true;
+            }
+            Kind::DampingRatio => {
+                self.opts.damping_ratio = v;
                 self.dirty = true;
             }
             Kind::Gravity(c) => {
@@ -243,7 +259,7 @@ impl Model {
         Ok(())
     }
 
-    /// Set the Integer (Enumeration) variable `method`.
+    /// Set the Integer variable `method`.
     pub fn set_integer(&mut self, vr: u32, v: i32, phase: Phase) -> Result<(), ModelError> {
         let var = self.var(vr)?;
         if !var.is_integer() {
@@ -255,18 +271,19 @@ impl Model {
             });
         }
         check_settable(var, phase)?;
-        let Some(m) = method_from_value(v).filter(|m| self.table.methods().contains(m)) else {
+        let m = self.table.method_for(v).map_err(|why| {
             let offered: Vec<String> = self
                 .table
                 .methods()
                 .iter()
                 .map(|&m| format!("{}={}", method_name(m), m as i32))
                 .collect();
-            return Err(ModelError::MethodNotOffered {
+            ModelError::MethodNotOffered {
                 value: v,
+                why,
                 offered: offered.join(", "),
-            });
-        };
+            }
+        })?;
         if m != self.method {
             self.method = m;
             self.dirty = true;
@@ -274,73 +291,7 @@ impl Model {
         Ok(())
     }
 
-    /// Get Real values for `vrs` into `out` (same length). Needs a solver.
-    pub fn get_reals(&mut self, vrs: &[u32], out: &mut [f64]) -> Result<(), ModelError> {
-        self.ensure_solver()?;
-        // A truncated scene's positions depend on the same-instant loads (residual
-        // flexibility): pass changed loads before reading.
-        if self.scene.residual.is_some()
-            && self.loads_dirty
-            && let Some(s) = self.solver.as_mut()
-        {
-            s.set_loads(&self.loads)?;
-            self.loads_dirty = false;
-        }
-        let Some(s) = self.solver.as_ref() else {
-            return Err(ModelError::NoSolver);
-        };
-        // Only what is asked for: a master polling one position pays for that position
-        // (one row) when the method can give it alone, otherwise for the positions only;
-        // velocities likewise are computed only when one is asked for.
-        let (mut all_pos, mut all_vel) = (false, false);
-        for (&vr, o) in vrs.iter().zip(out.iter_mut()) {
-            let Some(var) = self.table.get(vr) else {
-                return Err(ModelError::UnknownReference {
-                    vr,
-                    count: self.table.vars.len(),
-                });
-            };
-            *o = match var.kind {
-                Kind::Method => {
-                    return Err(ModelError::WrongType {
-                        name: var.name.clone(),
-                        vr,
-                        is: "an Enumeration",
-                        use_instead: "get it with fmi2GetInteger",
-                    });
-                }
-                Kind::RhoInf => self.opts.rho_inf,
-                Kind::Gravity(c) => self.scene.gravity[c],
-                Kind::V0(c) => self.scene.v0[c],
-                Kind::W0(c) => self.scene.w0[c],
-                Kind::Load { node, comp } => self.loads[6 * node + comp],
-                Kind::Position { node, comp } => match s.position(3 * node + comp) {
-                    Some(x) => x,
-                    None => {
-                        if !all_pos {
-                            s.positions(&mut self.pos);
-                            all_pos = true;
-                        }
-                        self.pos[3 * node + comp]
-                    }
-                },
-                Kind::Velocity { node, comp } => {
-                    if !all_vel {
-                        s.velocities(&mut self.vel);
-                        all_vel = true;
-                    }
-                    self.vel[3 * node + comp]
-                }
-                Kind::KineticEnergy => s.kinetic_energy(),
-                Kind::StrainEnergy => s.strain_energy(),
-                Kind::FrameOrigin(c) => s.frame().map_or(f64::NAN, |f| f.origin[c]),
-                Kind::FrameP(k) => s.frame().map_or(f64::NAN, |f| f.p[k]),
-            };
-        }
-        Ok(())
-    }
-
-    /// Get the Integer (Enumeration) `method`.
+    /// Get the Integer `method`.
     pub fn get_integer(&self, vr: u32) -> Result<i32, ModelError> {
         let var = self.var(vr)?;
         if !var.is_integer() {
@@ -399,30 +350,6 @@ impl Model {
         let slot = self.input_rate_slot(vr, order, v)?;
         self.rates[slot] = v;
         Ok(())
-    }
-
-    /// Derivative of order 1 or 2 of an output (fmi2GetRealOutputDerivatives): positions
-    /// give velocities and accelerations, velocities give accelerations (order 1).
-    pub fn get_output_derivative(&mut self, vr: u32, order: i32) -> Result<f64, ModelError> {
-        let var = self.var(vr)?;
-        let (kind, name) = (var.kind, &var.name);
-        let Some(s) = self.solver.as_ref() else {
-            return Err(ModelError::NoSolver);
-        };
-        match (kind, order) {
-            (Kind::Position { node, comp }, 1) => {
-                s.velocities(&mut self.vel);
-                Ok(self.vel[3 * node + comp])
-            }
-            (Kind::Position { node, comp }, 2) | (Kind::Velocity { node, comp }, 1) => {
-                s.accelerations(&mut self.acc);
-                Ok(self.acc[3 * node + comp])
-            }
-            _ => Err(ModelError::NoOutputDerivative {
-                name: name.clone(),
-                order,
-            }),
-        }
     }
 
     /// One communication step from `t` to `t + h`. `Ok(Some(text))` is a completed step
@@ -514,6 +441,7 @@ impl Model {
             phase,
             method: self.method as i32,
             rho_inf: self.opts.rho_inf,
+            damping_ratio: self.opts.damping_ratio,
             gravity: self.scene.gravity,
             v0: self.scene.v0,
             w0: self.scene.w0,
@@ -550,16 +478,19 @@ impl Model {
                 have: self.loads.len(),
             });
         }
-        let method = method_from_value(snap.method)
-            .filter(|m| self.table.methods().contains(m))
-            .ok_or(ModelError::StateMethod(snap.method))?;
+        let method = self
+            .table
+            .method_for(snap.method)
+            .map_err(|_| ModelError::StateMethod(snap.method))?;
         let params_differ = method != self.method
             || snap.rho_inf != self.opts.rho_inf
+            || snap.damping_ratio != self.opts.damping_ratio
             || snap.gravity != self.scene.gravity
             || snap.v0 != self.scene.v0
             || snap.w0 != self.scene.w0;
         self.method = method;
         self.opts.rho_inf = snap.rho_inf;
+        self.opts.damping_ratio = snap.damping_ratio;
         self.scene.gravity = snap.gravity;
         self.scene.v0 = snap.v0;
         self.scene.w0 = snap.w0;

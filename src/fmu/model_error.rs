@@ -90,7 +90,7 @@ pub enum ModelError {
         name: String,
         /// Its value reference.
         vr: u32,
-        /// What it is ("a Real", "an Enumeration").
+        /// What it is ("a Real", "an Integer").
         is: &'static str,
         /// The call to use ("set it with fmi2SetInteger", ...).
         use_instead: &'static str,
@@ -112,11 +112,16 @@ pub enum ModelError {
     /// rho_inf outside [0, 1].
     #[error("rho_inf must be in [0, 1], got {}", num(*.0))]
     RhoInf(f64),
+    /// A negative added damping ratio (it would feed energy in).
+    #[error("damping.ratio must be >= 0 (a negative ratio feeds energy in), got {}", num(*.0))]
+    DampingRatio(f64),
     /// A method value not offered for this body.
-    #[error("method: {value} is not offered for this body (offered: {offered})")]
+    #[error("method: {value} is not offered for this body: {why} (offered: {offered})")]
     MethodNotOffered {
         /// The value given.
         value: i32,
+        /// Why not (no such value, or a method for another kind of body).
+        why: String,
         /// The offered `name=value` pairs.
         offered: String,
     },

@@ -391,11 +391,24 @@ pub fn prepare_opts(req: &PackRequest, popts: &PackOptions) -> Result<Prepared, 
     if let Some(f) = fmax {
         let basis = crate::reduce::ModalBasis::of(&body);
         let kept = basis.count_below(f);
-        notes.push(format!(
-            "--fmax {f} Hz: {kept} of {} modes kept, the other {} by their static (residual-flexibility) contribution; positions now depend on the same-instant loads",
+        let first = basis.frequencies_hz().first().copied().unwrap_or(0.0);
+        if kept == 0 {
+            notes.push(format!(
+                "warning: --fmax {f} Hz is below the first mode ({} Hz): no mode kept, the body follows its loads only quasi-statically (residual flexibility); raise --fmax to keep modes",
+                crate::num::num(first)
+            ));
+        }
+        if kept == body.nl() {
+            notes.push(format!(
+                "--fmax {f} Hz: all {kept} modes kept (every mode is below it), no residual correction"
+            ));
+        } else {
+            notes.push(format!(
+            "--fmax {f} Hz: {kept} of {} modes kept, the other {} by their static (residual-flexibility) contribution; positions, rotations and strain energy now depend on the same-instant loads",
             body.nl(),
             body.nl() - kept
         ));
+        }
     }
     match &req.name {
         Some(n) => check_name(n)?,

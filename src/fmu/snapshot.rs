@@ -7,7 +7,7 @@
 
 use super::hash::{FNV_OFFSET, fnv1a64};
 use crate::num::num;
-use crate::solver::{Method, State};
+use crate::solver::State;
 
 /// Why saved-state bytes or a decoded snapshot were refused.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -58,6 +58,9 @@ pub enum SnapshotError {
     /// rho_inf outside [0, 1].
     #[error("saved state: rho_inf {} is not in [0, 1]", num(*.0))]
     RhoInf(f64),
+    /// A negative or non-finite added damping ratio.
+    #[error("saved state: damping.ratio {} is not finite and >= 0", num(*.0))]
+    DampingRatio(f64),
     /// stopTime before startTime (or NaN).
     #[error("saved state: stopTime {} is before startTime {}", num(*.stop), num(*.start))]
     StopBeforeStart {
@@ -69,7 +72,8 @@ pub enum SnapshotError {
 }
 
 const MAGIC: &[u8; 8] = b"FXBSTATE";
-const VERSION: u32 = 1;
+/// Version 2 added the damping ratio after rho_inf.
+const VERSION: u32 = 2;
 
 /// Everything that defines an instance's future: FMI phase, parameters, inputs and the
 /// complete solver state.
@@ -81,6 +85,8 @@ pub struct Snapshot {
     pub method: i32,
     /// rho_inf.
     pub rho_inf: f64,
+    /// The added modal damping ratio (`damping.ratio`).
+    pub damping_ratio: f64,
     /// Gravity.
     pub gravity: [f64; 3],
     /// Initial velocity.
@@ -169,6 +175,7 @@ impl Snapshot {
         p.u32(u32::from(self.phase));
         p.u32(self.method as u32);
         p.f64(self.rho_inf);
+        p.f64(self.damping_ratio);
         self.gravity
             .iter()
             .chain(&self.v0)
@@ -219,6 +226,9 @@ impl Snapshot {
         if !(0.0..=1.0).contains(&self.rho_inf) {
             return Err(SnapshotError::RhoInf(self.rho_inf));
         }
+        if !(self.damping_ratio.is_finite() && self.damping_ratio >= 0.0) {
+            return Err(SnapshotError::DampingRatio(self.damping_ratio));
+        }
         if let Some(stop) = self.stop_time
             && (stop.is_nan() || stop < self.start_time)
         {
@@ -264,6 +274,7 @@ impl Snapshot {
         let phase = r.u32()? as u8;
         let method = r.u32()? as i32;
         let rho_inf = r.f64()?;
+        let damping_ratio = r.f64()?;
         let gravity = r.v3()?;
         let v0 = r.v3()?;
         let w0 = r.v3()?;
@@ -276,12 +287,10 @@ impl Snapshot {
         let solver = match r.u32()? {
             0 => None,
             m => {
-                let method = match m {
-                    1 => Method::Explicit,
-                    2 => Method::Implicit,
-                    3 => Method::Exact,
-                    _ => return Err(SnapshotError::UnknownMethod(m)),
-                };
+                let method = i32::try_from(m)
+                    .ok()
+                    .and_then(super::vars::method_from_value)
+                    .ok_or(SnapshotError::UnknownMethod(m))?;
                 Some(State {
                     method,
                     data: r.f64s()?,
@@ -295,6 +304,7 @@ impl Snapshot {
             phase,
             method,
             rho_inf,
+            damping_ratio,
             gravity,
             v0,
             w0,
@@ -311,12 +321,14 @@ impl Snapshot {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::solver::Method;
 
     fn sample() -> Snapshot {
         Snapshot {
             phase: 3,
             method: 3,
             rho_inf: 0.8,
+            damping_ratio: 0.05,
             gravity: [0.0, -9.81, 0.0],
             v0: [1.0, 2.0, 3.0],
             w0: [0.1, 0.2, 0.3],

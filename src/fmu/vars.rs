@@ -34,6 +34,8 @@ pub enum Quantity {
     Acceleration,
     /// Angular velocity.
     AngularVelocity,
+    /// Angle (rotation vectors).
+    Angle,
     /// Energy.
     Energy,
 }
@@ -41,10 +43,12 @@ pub enum Quantity {
 /// What a variable is bound to at run time.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Kind {
-    /// The integration method (Enumeration `Method`).
+    /// The integration method (Integer, values from [`METHODS`]).
     Method,
     /// Generalised-alpha spectral radius at infinite frequency.
     RhoInf,
+    /// Added modal damping ratio on every local mode.
+    DampingRatio,
     /// Gravity component (free bodies).
     Gravity(usize),
     /// Initial body velocity component (free bodies).
@@ -67,6 +71,22 @@ pub enum Kind {
     },
     /// Velocity of exposed node `node`, component 0..3.
     Velocity {
+        /// Exposed node.
+        node: usize,
+        /// Component 0..3.
+        comp: usize,
+    },
+    /// Rotation vector of exposed node `node` from its initial orientation, component
+    /// 0..3 (nodes with rotational DOFs only).
+    Rotation {
+        /// Exposed node.
+        node: usize,
+        /// Component 0..3.
+        comp: usize,
+    },
+    /// Angular velocity of exposed node `node`, component 0..3 (nodes with rotational
+    /// DOFs only).
+    AngularVelocity {
         /// Exposed node.
         node: usize,
         /// Component 0..3.
@@ -102,7 +122,7 @@ pub struct Variable {
 }
 
 impl Variable {
-    /// Whether the variable is the Enumeration `method` (an Integer at the C ABI).
+    /// Whether the variable is the Integer `method`.
     pub fn is_integer(&self) -> bool {
         self.kind == Kind::Method
     }
@@ -117,6 +137,8 @@ pub struct VarTable {
     pub free: bool,
     /// Default method (the `method` start value).
     pub default_method: Method,
+    /// The methods this body offers, in value order (from [`METHODS`]).
+    methods: Vec<Method>,
 }
 
 const AXES: [&str; 3] = ["x", "y", "z"];
@@ -153,11 +175,7 @@ impl VarTable {
             Some(default_method as i32 as f64),
             Kind::Method,
             Quantity::None,
-            if free {
-                "Integration method: explicit (Radioss central difference, sub-cycled) or implicit (generalised-alpha)".into()
-            } else {
-                "Integration method: explicit (Radioss central difference, sub-cycled), implicit (generalised-alpha) or exact (modal)".into()
-            },
+            method_description(free),
         );
         push(
             "rho_inf".into(),
@@ -166,6 +184,14 @@ impl VarTable {
             Kind::RhoInf,
             Quantity::None,
             "Implicit method: spectral radius at infinite frequency, 0..1".into(),
+        );
+        push(
+            "damping.ratio".into(),
+            Parameter,
+            Some(Options::default().damping_ratio),
+            Kind::DampingRatio,
+            Quantity::None,
+            "Added modal damping ratio on every local mode, on top of the file's Rayleigh damping, every method (>= 0; 0.02 is 2% of critical)".into(),
         );
         if free {
             for (what, quantity, desc, mk) in [
@@ -282,10 +308,49 @@ impl VarTable {
                 }
             }
         }
+        // Rotations and angular velocities come last, so that adding them (issue 15) kept
+        // the value references of every earlier variable.
+        for (k, (&n, id)) in scene.nodes.iter().zip(&ids).enumerate() {
+            if !body.node_has_rotation(n) {
+                continue;
+            }
+            let rot_desc = if free {
+                "frame rotation then local small rotation"
+            } else {
+                "small rotation of the modes' rotation rows"
+            };
+            for (comp, axis) in AXES.iter().enumerate() {
+                push(
+                    format!("node_{id}.r{axis}"),
+                    Output,
+                    None,
+                    Kind::Rotation { node: k, comp },
+                    Quantity::Angle,
+                    format!(
+                        "Rotation of node {id} from its initial orientation as a rotation vector ({rot_desc}), global {axis}"
+                    ),
+                );
+            }
+            for (comp, axis) in AXES.iter().enumerate() {
+                push(
+                    format!("node_{id}.w{axis}"),
+                    Output,
+                    None,
+                    Kind::AngularVelocity { node: k, comp },
+                    Quantity::AngularVelocity,
+                    format!("Angular velocity of node {id}, global {axis}"),
+                );
+            }
+        }
         VarTable {
             vars,
             free,
             default_method,
+            methods: METHODS
+                .iter()
+                .filter(|i| i.bodies.includes(free))
+                .map(|i| i.method)
+                .collect(),
         }
     }
 
@@ -309,38 +374,163 @@ impl VarTable {
         self.vars.get(vr as usize)
     }
 
-    /// Methods a scene offers: exact only for blocked bodies.
-    pub fn methods(&self) -> &'static [Method] {
-        if self.free {
-            &[Method::Explicit, Method::Implicit]
-        } else {
-            &[Method::Explicit, Method::Implicit, Method::Exact]
+    /// Methods this body offers, in value order: the entries of [`METHODS`] whose
+    /// [`Bodies`] include it (exact only for blocked bodies).
+    pub fn methods(&self) -> &[Method] {
+        &self.methods
+    }
+
+    /// The method with Integer value `v` if this body offers it; otherwise why not (no
+    /// method has that value, or the method does not handle this kind of body).
+    pub fn method_for(&self, v: i32) -> Result<Method, String> {
+        let Some(info) = METHODS.iter().find(|i| i.method as i32 == v) else {
+            let (lo, hi) = method_range();
+            return Err(format!("no method has the value {v} (values {lo}..{hi})"));
+        };
+        if !info.bodies.includes(self.free) {
+            return Err(format!(
+                "{} ({v}) handles {} bodies only and this body is {}",
+                info.name,
+                info.bodies.name(),
+                if self.free { "free" } else { "blocked" }
+            ));
         }
+        Ok(info.method)
     }
 
     /// Whether an output depends at the initial instant on `other` (a parameter):
-    /// velocities and kinetic energy of a free body depend on v0 and w0.
+    /// velocities, angular velocities and kinetic energy of a free body depend on v0
+    /// and w0.
     pub fn initial_dependency(&self, output: &Variable, other: &Variable) -> bool {
-        matches!(output.kind, Kind::Velocity { .. } | Kind::KineticEnergy)
-            && matches!(other.kind, Kind::V0(_) | Kind::W0(_))
+        matches!(
+            output.kind,
+            Kind::Velocity { .. } | Kind::AngularVelocity { .. } | Kind::KineticEnergy
+        ) && matches!(other.kind, Kind::V0(_) | Kind::W0(_))
     }
 }
 
-/// The name of a method's enumeration item.
+/// Which bodies a method handles.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Bodies {
+    /// Blocked (Iblo = 1) and free (Iblo = 0) bodies.
+    Both,
+    /// Blocked bodies only.
+    Blocked,
+    /// Free bodies only.
+    Free,
+}
+
+impl Bodies {
+    /// Whether a body (free or blocked) is handled.
+    pub fn includes(self, free: bool) -> bool {
+        match self {
+            Bodies::Both => true,
+            Bodies::Blocked => !free,
+            Bodies::Free => free,
+        }
+    }
+
+    fn name(self) -> &'static str {
+        match self {
+            Bodies::Both => "blocked and free",
+            Bodies::Blocked => "blocked (Iblo=1)",
+            Bodies::Free => "free (Iblo=0)",
+        }
+    }
+}
+
+/// One integration method as the FMU offers it: its Integer value is `method as i32`.
+#[derive(Debug, Clone, Copy)]
+pub struct MethodInfo {
+    /// The solver's method.
+    pub method: Method,
+    /// Its name (`fxbody pack --method`, messages, the documentation page).
+    pub name: &'static str,
+    /// What it does, for the `method` parameter's description.
+    pub what: &'static str,
+    /// The bodies it handles.
+    pub bodies: Bodies,
+}
+
+/// Every method, in value order, values contiguous from 1. The `method` parameter's
+/// min, max and description, the methods a body offers and the check of a value set by
+/// a master all read this table: a new method is one more line here.
+pub const METHODS: &[MethodInfo] = &[
+    MethodInfo {
+        method: Method::Explicit,
+        name: "explicit",
+        what: "Radioss central difference, sub-cycled at 0.9 of the stable step",
+        bodies: Bodies::Both,
+    },
+    MethodInfo {
+        method: Method::Implicit,
+        name: "implicit",
+        what: "generalised-alpha (Chung-Hulbert), any step",
+        bodies: Bodies::Both,
+    },
+    MethodInfo {
+        method: Method::Exact,
+        name: "exact",
+        what: "exact modal stepping",
+        bodies: Bodies::Blocked,
+    },
+];
+
+/// The Integer range of `method`: the first and last values of [`METHODS`] (declared as
+/// min and max, so that every master, including those without enumerations, can set it).
+pub fn method_range() -> (i32, i32) {
+    (
+        METHODS.first().map_or(0, |i| i.method as i32),
+        METHODS.last().map_or(0, |i| i.method as i32),
+    )
+}
+
+/// The `method` parameter's description: every value with its meaning, those this body
+/// refuses marked as such.
+fn method_description(free: bool) -> String {
+    let items: Vec<String> = METHODS
+        .iter()
+        .map(|i| {
+            let refused = if i.bodies.includes(free) {
+                String::new()
+            } else {
+                format!("; {} bodies only, refused here", i.bodies.name())
+            };
+            format!("{} = {} ({}{refused})", i.method as i32, i.name, i.what)
+        })
+        .collect();
+    format!("Integration method: {}", items.join(", "))
+}
+
+/// The name of a method (from [`METHODS`]).
 pub fn method_name(m: Method) -> &'static str {
-    match m {
-        Method::Explicit => "explicit",
-        Method::Implicit => "implicit",
-        Method::Exact => "exact",
-    }
+    METHODS
+        .iter()
+        .find(|i| i.method == m)
+        .map_or("unknown", |i| i.name)
 }
 
-/// The method with enumeration value `v`, if any.
+/// The method with Integer value `v`, if any (whatever the body).
 pub fn method_from_value(v: i32) -> Option<Method> {
-    match v {
-        1 => Some(Method::Explicit),
-        2 => Some(Method::Implicit),
-        3 => Some(Method::Exact),
-        _ => None,
+    METHODS
+        .iter()
+        .find(|i| i.method as i32 == v)
+        .map(|i| i.method)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn method_values_are_contiguous_from_one_and_round_trip() {
+        for (k, i) in METHODS.iter().enumerate() {
+            assert_eq!(i.method as i32, k as i32 + 1, "{}", i.name);
+            assert_eq!(method_from_value(i.method as i32), Some(i.method));
+            assert_eq!(method_name(i.method), i.name);
+        }
+        assert_eq!(method_range(), (1, METHODS.len() as i32));
+        assert_eq!(method_from_value(0), None);
+        assert_eq!(method_from_value(METHODS.len() as i32 + 1), None);
     }
 }

@@ -1,12 +1,11 @@
 //! modelDescription.xml from the variable table, the scene and the pack options. Element
-//! order follows the FMI 2.0 schema (CoSimulation, UnitDefinitions, TypeDefinitions,
-//! LogCategories, DefaultExperiment, ModelVariables, ModelStructure); no time stamp, so
+//! order follows the FMI 2.0 schema (CoSimulation, UnitDefinitions, LogCategories, DefaultExperiment, ModelVariables, ModelStructure); no time stamp, so
 //! the same input gives the same bytes.
 
 use std::fmt::Write;
 
 use super::options::{SceneOptions, UnitSystem};
-use super::vars::{Causality, Kind, Quantity, VarTable, method_name};
+use super::vars::{Causality, Kind, Quantity, VarTable, method_range};
 use crate::num::count;
 use crate::scene::Scene;
 
@@ -113,6 +112,7 @@ pub(crate) fn unit(q: Quantity, u: UnitSystem) -> Option<(&'static str, [i32; 3]
         (Acceleration, Si) => ("m/s2", [0, 1, -2], 1.0),
         (Acceleration, MmTonneS) => ("mm/s2", [0, 1, -2], 1e-3),
         (AngularVelocity, _) => ("rad/s", [0, 0, -1], 1.0),
+        (Angle, _) => ("rad", [0, 0, 0], 1.0),
         (Energy, Si) => ("J", [1, 2, -2], 1.0),
         (Energy, MmTonneS) => ("mJ", [1, 2, -2], 1e-3),
     })
@@ -127,7 +127,7 @@ pub(crate) fn unit_element((name, [kg, m, s], factor): (&str, [i32; 3], f64)) ->
             let _ = write!(base, " {k}=\"{e}\"");
         }
     }
-    if name == "rad/s" {
+    if name.starts_with("rad") {
         base.push_str(" rad=\"1\"");
     }
     if factor != 1.0 {
@@ -137,6 +137,33 @@ pub(crate) fn unit_element((name, [kg, m, s], factor): (&str, [i32; 3], f64)) ->
         "    <Unit name=\"{}\">\n      <BaseUnit{base}/>\n    </Unit>\n",
         escape(name)
     )
+}
+
+/// Whether output `i` of the table depends on the inputs at the same instant (a direct
+/// feedthrough; then on every load input). Without truncation none does: positions,
+/// velocities, rotations, energies and the frame are states of the second-order system.
+/// With a residual flexibility (pack --fmax), positions, rotations and the strain energy
+/// carry `R f`. The model description and the documentation page both read this.
+pub fn feeds_through(scene: &Scene, table: &VarTable, i: usize) -> bool {
+    scene.residual.is_some()
+        && matches!(
+            table.vars[i].kind,
+            Kind::Position { .. } | Kind::Rotation { .. } | Kind::StrainEnergy
+        )
+}
+
+/// What the model keeps of the body, in one sentence shared by the model description
+/// and the documentation page: the local modes, and the residual correction if any.
+pub fn modes_summary(scene: &Scene) -> String {
+    let nl = scene.body.nl();
+    match &scene.residual {
+        Some(r) => format!(
+            "{} kept, residual correction of {}",
+            count(nl, "local mode"),
+            count(r.dropped, "dropped mode")
+        ),
+        None => format!("{}, no residual correction", count(nl, "local mode")),
+    }
 }
 
 /// The complete modelDescription.xml text.
@@ -152,7 +179,7 @@ pub fn model_description(
     let description = format!(
         "Radioss flexible body ({kind}, {}, {}, {}), by fxbody",
         count(body.nnodes(), "node"),
-        count(body.nl(), "local mode"),
+        modes_summary(scene),
         count(scene.nodes.len(), "exposed node")
     );
     x.push_str("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
@@ -187,24 +214,6 @@ pub fn model_description(
         }
         x.push_str("  </UnitDefinitions>\n");
     }
-    x.push_str("  <TypeDefinitions>\n    <SimpleType name=\"Method\">\n      <Enumeration>\n");
-    for &m in table.methods() {
-        let what = match m {
-            crate::solver::Method::Explicit => {
-                "Radioss central difference, sub-cycled at 0.9 of the stable step"
-            }
-            crate::solver::Method::Implicit => "generalised-alpha (Chung-Hulbert), any step",
-            crate::solver::Method::Exact => "exact modal stepping (blocked bodies)",
-        };
-        let _ = writeln!(
-            x,
-            "        <Item name=\"{}\" value=\"{}\" description=\"{}\"/>",
-            method_name(m),
-            m as i32,
-            escape(what)
-        );
-    }
-    x.push_str("      </Enumeration>\n    </SimpleType>\n  </TypeDefinitions>\n");
     x.push_str("  <LogCategories>\n");
     for (name, desc) in LOG_CATEGORIES {
         let _ = writeln!(
@@ -247,9 +256,12 @@ pub fn model_description(
             escape(&v.description)
         );
         if v.kind == Kind::Method {
+            // An Integer, not an Enumeration: libcosim and ecos ignore Enumeration
+            // variables, so their users could not choose the method.
+            let (lo, hi) = method_range();
             let _ = writeln!(
                 x,
-                "      <Enumeration declaredType=\"Method\" start=\"{}\"/>",
+                "      <Integer min=\"{lo}\" max=\"{hi}\" start=\"{}\"/>",
                 table.default_method as i32
             );
         } else {
@@ -268,20 +280,11 @@ pub fn model_description(
     let outputs: Vec<usize> = (0..table.vars.len())
         .filter(|&i| table.vars[i].causality == Causality::Output)
         .collect();
-    // Without truncation no output depends on an input at the same instant: positions,
-    // velocities, energies and the frame are states of the second-order system. With a
-    // residual flexibility (pack --fmax), positions and the strain energy carry R f.
+    let feeds = |i: usize| feeds_through(scene, table, i);
     let loads: Vec<String> = (0..table.vars.len())
         .filter(|&j| matches!(table.vars[j].kind, Kind::Load { .. }))
         .map(|j| (j + 1).to_string())
         .collect();
-    let feeds = |i: usize| {
-        scene.residual.is_some()
-            && matches!(
-                table.vars[i].kind,
-                Kind::Position { .. } | Kind::StrainEnergy
-            )
-    };
     for &i in &outputs {
         let deps = if feeds(i) {
             loads.join(" ")

@@ -2,8 +2,8 @@
 //!
 //! A blocked body is linear: `diag(m_L) a + (beta K_L + alpha diag(m_L)) v + K_L q = F_L`.
 //! With `m^-1/2 K_L m^-1/2 = V diag(w^2) V^T` and `q = S y`, `S = m^-1/2 V`, every mode
-//! obeys `y'' + d y' + w^2 y = S^T F_L` with `d = alpha + beta w^2 = 2 zeta w`: Rayleigh
-//! damping stays modal. Each mode is advanced exactly over a step for a load that is
+//! obeys `y'' + d y' + w^2 y = S^T F_L` with `d = alpha + beta w^2` (plus `2 zeta w`
+//! with an added damping ratio, [`super::damping`]): the damping stays modal. Each mode is advanced exactly over a step for a load that is
 //! held, or varies linearly when rates are set, so the only error left is the load model
 //! between samples. The transition coefficients are computed once per distinct step size;
 //! two sizes are kept, so a constant step with an odd last step does not recompute them.
@@ -18,9 +18,10 @@
 
 use nalgebra::{DMatrix, DVector};
 
+use super::damping::LocalDamping;
 use super::expm::mode_coefficients;
 use super::nodes::{Exposed, LocalCoords, check_state, modal_basis, modal_strain_energy};
-use super::{Frame, Method, Solver, SolverError, State};
+use super::{Frame, Method, Options, Solver, SolverError, State};
 use crate::scene::Scene;
 
 /// The exact modal solver.
@@ -46,14 +47,15 @@ pub struct Exact {
 }
 
 impl Exact {
-    /// Diagonalise the body and precompute the exposed-node rows in the modal basis.
-    pub fn new(scene: &Scene) -> Result<Exact, SolverError> {
+    /// Diagonalise the body and precompute the exposed-node rows in the modal basis;
+    /// the modal damping is [`LocalDamping::modal`] (Rayleigh plus the added ratio).
+    pub fn new(scene: &Scene, opts: &Options) -> Result<Exact, SolverError> {
         let body = &scene.body;
         let nl = body.nl();
         let (basis, omega) = modal_basis(body);
-        let (a, b) = body.damping.map_or((0.0, 0.0), |r| (r.alpha, r.beta));
+        let damping = LocalDamping::new(body, opts.damping_ratio)?;
         let w2: Vec<f64> = omega.iter().map(|&w| w * w).collect();
-        let damp = w2.iter().map(|&w2| a + b * w2).collect();
+        let damp = omega.iter().map(|&w| damping.modal(w)).collect();
         let io = Exposed::new(scene, &basis)?;
         Ok(Exact {
             time: 0.0,
@@ -78,6 +80,24 @@ impl Exact {
 
     fn state_len(&self) -> usize {
         1 + self.io.saved_len() + 2 * self.y.len()
+    }
+
+    /// Node accelerations through the rows at offset `off` (0 translations, 3
+    /// rotations): modal accelerations from the equation of motion, recomputed for each
+    /// output value so that no workspace is needed (outputs are few, and not on the step).
+    fn node_accelerations(&self, off: usize, out: &mut [f64]) {
+        let n = out.len().min(3 * self.io.nodes);
+        for (i, o) in out[..n].iter_mut().enumerate() {
+            let row = self.io.row(i / 3, off + i % 3);
+            *o = (0..self.y.len())
+                .map(|j| {
+                    let a = self.io.force(j, self.time)
+                        - self.damp[j] * self.yd[j]
+                        - self.w2[j] * self.y[j];
+                    row[j] * a
+                })
+                .sum();
+        }
     }
 }
 
@@ -188,24 +208,20 @@ impl Solver for Exact {
     }
 
     fn accelerations(&self, out: &mut [f64]) {
-        // Modal accelerations from the equation of motion, recomputed for each output
-        // value so that no workspace is needed (outputs are few, and not on the step).
-        let n = out.len().min(3 * self.io.nodes);
-        for (i, o) in out[..n].iter_mut().enumerate() {
-            let row = self.io.row(i / 3, i % 3);
-            *o = (0..self.y.len())
-                .map(|j| {
-                    let a = self.io.force(j, self.time)
-                        - self.damp[j] * self.yd[j]
-                        - self.w2[j] * self.y[j];
-                    row[j] * a
-                })
-                .sum();
-        }
+        self.node_accelerations(0, out);
     }
 
     fn rotation_rates(&self, out: &mut [f64]) {
         self.io.rotations(&self.yd, out);
+    }
+
+    fn rotations(&self, out: &mut [f64]) {
+        self.io.rotations(&self.y, out);
+    }
+
+    fn rotation_accelerations(&self, out: &mut [f64]) -> bool {
+        self.node_accelerations(3, out);
+        true
     }
 
     fn modal(&self) -> &[f64] {

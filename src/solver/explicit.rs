@@ -2,7 +2,8 @@
 //! sub-cycled inside each communication step.
 //!
 //! Velocities live at half steps. One internal step of size dt2 after a step dt1:
-//! `S = F(t) - K q - (beta K + a_R diag m) v^(n-1/2)` (stiffness damping lagged),
+//! `S = F(t) - K q - (beta K + C_zeta + a_R diag m) v^(n-1/2)` (stiffness and added modal
+//! damping lagged, [`super::damping`]),
 //! `a = S / (m (1 + a_R dt2/2))` (mass damping semi-implicit),
 //! `v^(n+1/2) = v^(n-1/2) + (dt1 + dt2)/2 a`, `q^(n+1) = q^n + dt2 v^(n+1/2)`. The first
 //! cycle has dt1 = 0, so `v^(1/2) = v^0 + dt2/2 a^0`.
@@ -17,7 +18,8 @@
 //!
 //! A communication step h is cut into `n = ceil(h / (dt_factor dt_fx))` equal internal
 //! steps that land exactly on its end, dt_fx being the stable step of the largest
-//! eigenfrequency of (K_L, m_L) with the stiffness damping (`Body::explicit_stable_step`, which `fxbody info` reports).
+//! eigenfrequency of (K_L, m_L) with the lagged damping (`LocalDamping::explicit_stable_step`:
+//! `Body::explicit_stable_step`, which `fxbody info` reports, without an added ratio).
 //! `Options::subcycle = false` takes one internal step of size h (a test switch: it is
 //! unstable past dt_fx).
 //!
@@ -34,6 +36,7 @@
 
 use nalgebra::{DMatrix, DVector};
 
+use super::damping::LocalDamping;
 use super::dense::bilinear;
 use super::nodes::{Exposed, check_state};
 use super::{Frame, MAX_INTERNAL_STEPS, Method, Options, Solver, SolverError, State};
@@ -53,8 +56,11 @@ pub struct Explicit {
     dt1: f64,
     q: DVector<f64>,
     vh: DVector<f64>,
-    /// `K (q + beta vh)` for the current q and vh.
+    /// `K (q + beta vh) + C_zeta vh` for the current q and vh.
     kq: DVector<f64>,
+    /// The added modal damping in local coordinates ([`LocalDamping::added_matrix`]),
+    /// lagged like the stiffness damping; `None` without it.
+    c_add: Option<DMatrix<f64>>,
     w: DVector<f64>,
     acc: DVector<f64>,
     vout: DVector<f64>,
@@ -74,7 +80,8 @@ impl Explicit {
         let body = &scene.body;
         let nl = body.nl();
         let io = Exposed::new(scene, &DMatrix::identity(nl, nl))?;
-        let (ra, rb) = body.damping.map_or((0.0, 0.0), |r| (r.alpha, r.beta));
+        let damping = LocalDamping::new(body, opts.damping_ratio)?;
+        let (ra, rb) = (damping.alpha, damping.beta);
         Ok(Explicit {
             time: 0.0,
             io,
@@ -82,7 +89,8 @@ impl Explicit {
             k: body.k_l.clone(),
             ra,
             rb,
-            dt_max: opts.dt_factor * body.explicit_stable_step(),
+            dt_max: opts.dt_factor * damping.explicit_stable_step(body),
+            c_add: damping.added_matrix(body),
             subcycle: opts.subcycle,
             dt1: 0.0,
             q: DVector::zeros(nl),
@@ -128,6 +136,9 @@ impl Explicit {
         self.w.copy_from(&self.q);
         self.w.axpy(self.rb, &self.vh, 1.0);
         self.kq.gemv(1.0, &self.k, &self.w, 0.0);
+        if let Some(c) = &self.c_add {
+            self.kq.gemv(1.0, c, &self.vh, 1.0);
+        }
     }
 
     /// Acceleration and full-step velocity estimate at the current time.
@@ -218,6 +229,15 @@ impl Solver for Explicit {
 
     fn rotation_rates(&self, out: &mut [f64]) {
         self.io.rotations(&self.vout, out);
+    }
+
+    fn rotations(&self, out: &mut [f64]) {
+        self.io.rotations(&self.q, out);
+    }
+
+    fn rotation_accelerations(&self, out: &mut [f64]) -> bool {
+        self.io.rotations(&self.acc, out);
+        true
     }
 
     fn modal(&self) -> &[f64] {

@@ -25,8 +25,9 @@
 
 use nalgebra::DVector;
 
+use super::damping::LocalDamping;
 use super::nodes::{Exposed, LocalCoords, check_state, modal_basis, modal_strain_energy};
-use super::{Frame, Method, Solver, SolverError, State};
+use super::{Frame, Method, Options, Solver, SolverError, State};
 use crate::scene::Scene;
 
 /// Generalised-alpha parameters from the spectral radius at infinity.
@@ -67,7 +68,7 @@ pub struct Implicit {
     basis: nalgebra::DMatrix<f64>,
     /// `omega^2` per mode.
     w2: Vec<f64>,
-    /// Modal damping `alpha + beta omega^2`.
+    /// Modal damping `alpha + beta omega^2 (+ 2 zeta omega)`.
     damp: Vec<f64>,
     p: AlphaParams,
     started: bool,
@@ -83,8 +84,10 @@ pub struct Implicit {
 }
 
 impl Implicit {
-    /// Build from a blocked scene; `rho_inf` must lie in [0, 1].
-    pub fn new(scene: &Scene, rho_inf: f64) -> Result<Implicit, SolverError> {
+    /// Build from a blocked scene; `opts.rho_inf` must lie in [0, 1]. The modal damping
+    /// is [`LocalDamping::modal`] (Rayleigh plus the added ratio).
+    pub fn new(scene: &Scene, opts: &Options) -> Result<Implicit, SolverError> {
+        let rho_inf = opts.rho_inf;
         if !(0.0..=1.0).contains(&rho_inf) {
             return Err(SolverError::Unsupported {
                 method: Method::Implicit,
@@ -95,9 +98,9 @@ impl Implicit {
         let nl = body.nl();
         let (basis, omega) = modal_basis(body);
         let io = Exposed::new(scene, &basis)?;
-        let (ra, rb) = body.damping.map_or((0.0, 0.0), |r| (r.alpha, r.beta));
+        let damping = LocalDamping::new(body, opts.damping_ratio)?;
         let w2: Vec<f64> = omega.iter().map(|&w| w * w).collect();
-        let damp = w2.iter().map(|&w2| ra + rb * w2).collect();
+        let damp = omega.iter().map(|&w| damping.modal(w)).collect();
         Ok(Implicit {
             time: 0.0,
             io,
@@ -234,6 +237,15 @@ impl Solver for Implicit {
 
     fn rotation_rates(&self, out: &mut [f64]) {
         self.io.rotations(&self.v, out);
+    }
+
+    fn rotations(&self, out: &mut [f64]) {
+        self.io.rotations(&self.y, out);
+    }
+
+    fn rotation_accelerations(&self, out: &mut [f64]) -> bool {
+        self.io.rotations(&self.a, out);
+        true
     }
 
     fn modal(&self) -> &[f64] {

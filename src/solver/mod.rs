@@ -16,6 +16,7 @@
 
 use crate::scene::Scene;
 
+pub mod damping;
 mod dense;
 pub mod exact;
 pub mod explicit;
@@ -50,6 +51,9 @@ pub struct Options {
     pub dt_factor: f64,
     /// Sub-cycle the explicit method (tests switch it off to show the instability).
     pub subcycle: bool,
+    /// Added modal damping ratio on every local mode, on top of Rayleigh (the FMU
+    /// parameter `damping.ratio`; [`damping`] is its one definition).
+    pub damping_ratio: f64,
 }
 
 impl Default for Options {
@@ -58,6 +62,7 @@ impl Default for Options {
             rho_inf: 0.9,
             dt_factor: 0.9,
             subcycle: true,
+            damping_ratio: 0.0,
         }
     }
 }
@@ -182,6 +187,18 @@ pub trait Solver: Send {
     fn accelerations(&self, out: &mut [f64]);
     /// Global rotation rates of the exposed nodes (3 per node; zeros without rotational DOFs).
     fn rotation_rates(&self, out: &mut [f64]);
+    /// Rotation of each exposed node from its initial orientation, as a rotation vector
+    /// (axis times angle, global frame, angle at most pi; 3 per node, zeros without
+    /// rotational DOFs). Blocked bodies: the small rotation of the rotational rows, whose
+    /// rate is [`Solver::rotation_rates`]. Free bodies: the frame's rotation `P P0^T`
+    /// followed by the local small rotation `P sum_j alpha_j Phi_L,j(n)_rot`.
+    fn rotations(&self, out: &mut [f64]);
+    /// Global angular accelerations of the exposed nodes (3 per node), the time
+    /// derivative of [`Solver::rotation_rates`] where the method has it exactly (blocked
+    /// bodies); `false` (and `out` untouched) where it does not.
+    fn rotation_accelerations(&self, _out: &mut [f64]) -> bool {
+        false
+    }
     /// Local modal coordinates alpha.
     fn modal(&self) -> &[f64];
     /// Strain energy `1/2 alpha^T K_L alpha`.
@@ -266,8 +283,8 @@ pub fn build(
         };
     }
     match method {
-        Method::Exact => Ok(Box::new(Exact::new(scene)?)),
-        Method::Implicit => Ok(Box::new(Implicit::new(scene, opts.rho_inf)?)),
+        Method::Exact => Ok(Box::new(Exact::new(scene, opts)?)),
+        Method::Implicit => Ok(Box::new(Implicit::new(scene, opts)?)),
         Method::Explicit => Ok(Box::new(Explicit::new(scene, opts)?)),
     }
 }

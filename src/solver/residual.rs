@@ -4,7 +4,7 @@
 //!
 //! With `f(t) = f0 + fdot (t - t_set)` (held or linearly varying load, the solvers' load
 //! model), the correction adds `P R P^T f` to the positions, `P R P^T fdot` to the
-//! velocities and the rotational rows to the rotation rates; it adds nothing to the
+//! velocities and the rotational rows to the rotations and rotation rates; it adds nothing to the
 //! accelerations (the second derivative of a piecewise-linear load is zero between
 //! samples; the impulses at the samples are not represented). `P` is P0 for a blocked
 //! body and the current frame of a free one (node-wise, on forces and on moments). The
@@ -136,6 +136,16 @@ impl Solver for Residual {
     fn rotation_rates(&self, out: &mut [f64]) {
         self.inner.rotation_rates(out);
         self.add(3, |k| self.held.rates[k], out);
+    }
+    /// The inner rotation plus the rotational rows of `P R P^T f` (exact for a blocked
+    /// body, whose rotations are linear; for a free body the small correction is added
+    /// to the rotation vector, right to first order in it).
+    fn rotations(&self, out: &mut [f64]) {
+        self.inner.rotations(out);
+        self.add(3, |k| self.load(k), out);
+    }
+    fn rotation_accelerations(&self, out: &mut [f64]) -> bool {
+        self.inner.rotation_accelerations(out)
     }
     fn modal(&self) -> &[f64] {
         self.inner.modal()

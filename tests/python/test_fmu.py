@@ -116,7 +116,7 @@ def test_units_declared_only_on_request(fmu_dir):
 
 @pytest.mark.parametrize("method,rho_inf,tol", [(1, 0.9, 5e-3), (2, 0.9, 1e-2), (2, 0.5, 1e-2)])
 def test_method_and_rho_inf_parameters_reach_the_solver(cantilever_tip, method, rho_inf, tol):
-    """The Enumeration `method` and `rho_inf`, set as start values, select the solver:
+    """The Integer `method` and `rho_inf`, set as start values, select the solver:
     explicit (sub-cycled central difference) and implicit (generalised-alpha) also follow
     the full-FE step response (bounds: 0.5% and 1% of the peak at h = 0.2 ms)."""
     fmu, ref = cantilever_tip
@@ -163,3 +163,18 @@ def test_archive_layout_and_documentation(packed, body):
     want = np.array(reference(body)["frequencies_hz"]["reduced"])
     assert ours.shape == want.shape
     assert np.allclose(ours, want, rtol=1e-6, atol=1e-6), (ours, want)
+
+
+def test_method_is_an_integer_parameter_with_its_range(fmu_dir):
+    """Issue 15: `method` is an Integer (libcosim and ecos ignore Enumerations) with
+    min 1, max 3 and a description naming each value; fmpy reads it so."""
+    from conftest import pack_fmu
+    from fmpy import read_model_description
+
+    md = read_model_description(str(pack_fmu(fmu_dir, "cantilever", "--nodes", "121", name="mint")))
+    v = next(v for v in md.modelVariables if v.name == "method")
+    assert (v.type, v.causality, v.variability) == ("Integer", "parameter", "fixed")
+    assert (int(v.min), int(v.max), int(v.start)) == (1, 3, 3)
+    for item in ("1 = explicit", "2 = implicit", "3 = exact"):
+        assert item in v.description
+    assert md.typeDefinitions == []

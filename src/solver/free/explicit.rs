@@ -121,10 +121,11 @@ impl Explicit {
     /// Build the solver for a free-body scene, at rest or with the scene's initial
     /// velocity, at t = 0.
     pub fn new(scene: &Scene, opts: &Options) -> Result<Explicit, SolverError> {
-        let m = Model::new(scene)?;
+        let m = Model::new(scene, opts.damping_ratio)?;
         let (nr, nl, nq) = (m.nr, m.nl, m.nq());
-        // The same function `fxbody info` reports (one definition of the stable step).
-        let dt_fx = scene.body.explicit_stable_step();
+        // The one definition of the stable step (the one `fxbody info` reports, shortened
+        // by an added damping ratio).
+        let dt_fx = m.dt_fx;
         let mut v = DVector::zeros(nq);
         m.initial_velocity(scene.v0, scene.w0, &mut v);
         let w = Work {
@@ -427,6 +428,10 @@ impl Solver for Explicit {
 
     fn positions(&self, out: &mut [f64]) {
         self.m.positions(&self.q, &self.p, out);
+    }
+
+    fn rotations(&self, out: &mut [f64]) {
+        self.m.rotations(&self.q, &self.p, out);
     }
 
     fn velocities(&self, out: &mut [f64]) {

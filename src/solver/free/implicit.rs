@@ -142,7 +142,7 @@ impl Implicit {
                 ),
             });
         }
-        let m = Model::new(scene)?;
+        let m = Model::new(scene, opts.damping_ratio)?;
         let (nr, nl, nq, nc) = (m.nr, m.nl, m.nq(), m.nc());
         let mut v = DVector::zeros(nq);
         m.initial_velocity(scene.v0, scene.w0, &mut v);
@@ -234,6 +234,9 @@ impl Implicit {
             }
             for (k, &kjk) in m.k_l_rows[j * nl..(j + 1) * nl].iter().enumerate() {
                 s -= kjk * (alpha[k] + m.ray_b * vl[k]);
+            }
+            if let Some(c) = &m.c_add {
+                s -= (0..nl).map(|k| c[(j, k)] * vl[k]).sum::<f64>();
             }
             w.res[nr + j] = s;
         }
@@ -412,6 +415,10 @@ impl Solver for Implicit {
 
     fn positions(&self, out: &mut [f64]) {
         self.m.positions(&self.q, &self.p, out);
+    }
+
+    fn rotations(&self, out: &mut [f64]) {
+        self.m.rotations(&self.q, &self.p, out);
     }
 
     fn velocities(&self, out: &mut [f64]) {

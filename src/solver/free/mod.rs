@@ -206,6 +206,11 @@ pub(crate) struct Model {
     /// Rayleigh alpha (mass) and beta (stiffness).
     pub ray_a: f64,
     pub ray_b: f64,
+    /// The added modal damping on the local coordinates, applied where `beta K_L` is
+    /// ([`super::damping::LocalDamping::added_matrix`]); `None` without it.
+    pub c_add: Option<DMatrix<f64>>,
+    /// The explicit scheme's stable step with this damping.
+    pub dt_fx: f64,
     /// Rigid modes at the exposed nodes (`6 m x nr`), row-major: row `r` is
     /// `phi_r_rows[r * nr..(r + 1) * nr]`, so that the per-node sums of the outputs and
     /// of the load projection read contiguous memory.
@@ -228,8 +233,9 @@ pub(crate) struct Model {
 }
 
 impl Model {
-    /// Check the body and collect what the methods need.
-    pub fn new(scene: &Scene) -> Result<Model, SolverError> {
+    /// Check the body and collect what the methods need (`damping_ratio`: the added
+    /// modal damping ratio, [`super::damping`]).
+    pub fn new(scene: &Scene, damping_ratio: f64) -> Result<Model, SolverError> {
         let body = &scene.body;
         let bad = |why: String| SolverError::Singular(why);
         if body.iblo {
@@ -292,7 +298,7 @@ impl Model {
             .fold(f64::INFINITY, f64::min)
             * 2.0
             * std::f64::consts::PI;
-        let damping = body.damping.unwrap_or_default();
+        let damping = super::damping::LocalDamping::new(body, damping_ratio)?;
         let mass_scale = (0..12).map(|i| body.m_r[(i, i)].abs()).fold(0.0, f64::max);
         if mass_scale <= 0.0 || !mass_scale.is_finite() {
             return Err(bad(
@@ -321,6 +327,8 @@ impl Model {
             k_l: body.k_l.clone(),
             ray_a: damping.alpha,
             ray_b: damping.beta,
+            c_add: damping.added_matrix(body),
+            dt_fx: damping.explicit_stable_step(body),
             x0,
             s_grav,
             g_r,
@@ -507,6 +515,37 @@ impl Model {
         }
     }
 
+    /// Node rotation vectors (FORMULATION.md section 9): the frame's rotation
+    /// `P P0^T` followed by the local small rotation `P theta_l`,
+    /// `theta_l = sum_j alpha_j Phi_L,j(n)_rot`, i.e. `log(exp([P theta_l]) P P0^T)`.
+    /// P satisfies its constraints only to their tolerance: the rotation is read
+    /// through a unit quaternion, which absorbs that drift. Zeros for nodes without
+    /// rotational DOFs (Irot = 0).
+    pub fn rotations(&self, q: &DVector<f64>, p: &Matrix3<f64>, out: &mut [f64]) {
+        let rf = p * self.p0.transpose();
+        let (nr, nl) = (self.nr, self.nl);
+        for k in 0..self.nexp.min(out.len() / 3) {
+            if !self.irot {
+                out[3 * k..3 * k + 3].fill(0.0);
+                continue;
+            }
+            let b = 6 * k + 3;
+            let mut loc = Vector3::zeros();
+            for c in 0..3 {
+                let pl = &self.phi_l_rows[(b + c) * nl..(b + c + 1) * nl];
+                loc[c] = pl
+                    .iter()
+                    .zip(&q.as_slice()[nr..])
+                    .map(|(f, a)| a * f)
+                    .sum::<f64>();
+            }
+            let theta = p * loc;
+            let r = nalgebra::Rotation3::from_scaled_axis(theta).matrix() * rf;
+            let v = rotation_vector(&r);
+            out[3 * k..3 * k + 3].copy_from_slice(v.as_slice());
+        }
+    }
+
     /// The frame output: origin of L0 and P row-major.
     pub fn frame(&self, q: &DVector<f64>, p: &Matrix3<f64>) -> super::Frame {
         let o = self.origin0 + Vector3::new(q[9], q[10], q[11]);
@@ -537,6 +576,23 @@ impl Model {
     pub fn check_loads(&self, what: &'static str, x: &[f64]) -> Result<(), SolverError> {
         super::loads::check(what, x, 6 * self.nexp)
     }
+}
+
+/// The rotation vector (axis times angle, angle in [0, pi]) of a rotation matrix, by
+/// way of the nearest unit quaternion `(w, v)`: `2 atan2(|v|, w) v / |v|`, accurate at
+/// small angles (where `acos` of the trace loses half the digits) and near pi.
+pub(crate) fn rotation_vector(r: &Matrix3<f64>) -> Vector3<f64> {
+    let q = nalgebra::UnitQuaternion::from_matrix(r);
+    let (mut w, mut v) = (q.scalar(), q.vector().into_owned());
+    if w < 0.0 {
+        w = -w;
+        v = -v;
+    }
+    let s = v.norm();
+    if s == 0.0 {
+        return Vector3::zeros();
+    }
+    v * (2.0 * s.atan2(w) / s)
 }
 
 /// `out = sum_i w_i blocks_i` entry by entry, the terms added in the order i = 0..9

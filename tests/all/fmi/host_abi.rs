@@ -128,7 +128,7 @@ fn a_state_saved_before_initialisation_restores_that_phase() {
     inst.enter_init().unwrap();
     inst.exit_init().unwrap();
     assert_eq!(run(&inst, &p, 0, 30), a);
-    // Parameters: `method` is an Enumeration; exact=3, implicit=2 are offered, 7 is not.
+    // Parameters: `method` is an Integer; exact=3, implicit=2 are offered, 7 is not.
     let inst2 = lib.instantiate("params", &p.guid, &uri, false).unwrap();
     let e = inst2.set_integer(&[vr(&p, "method")], &[7]).unwrap_err();
     assert!(e.contains("method: 7 is not offered"), "{e}");

@@ -123,12 +123,13 @@ fn exposing_every_node_warns_past_1000_variables() {
             .iter()
             .any(|n| n.starts_with("warning: all ") && n.contains("variables"))
     };
-    // Per node with rotations: 6 inputs, 3 positions, 3 velocities; plus method,
-    // rho_inf and the two energies: 12 n + 4 variables.
-    for (n, want) in [(83, false), (84, true)] {
+    // Per node with rotations: 6 inputs, 3 positions, 3 velocities, 3 rotations, 3
+    // angular velocities (issue 15); plus method, rho_inf, damping.ratio and the two
+    // energies: 18 n + 5 variables.
+    for (n, want) in [(55, false), (56, true)] {
         let req = write_body(&dir, n);
         let p = prepare(&req).unwrap();
-        assert_eq!(p.table.vars.len(), 12 * n + 4, "{n} nodes");
+        assert_eq!(p.table.vars.len(), 18 * n + 5, "{n} nodes");
         assert_eq!(warned(&p), want, "{n} nodes: {:?}", p.notes);
         if want {
             let note = p
@@ -136,7 +137,7 @@ fn exposing_every_node_warns_past_1000_variables() {
                 .iter()
                 .find(|m| m.starts_with("warning: all"))
                 .unwrap();
-            assert!(note.contains(&format!("all {n} nodes")) && note.contains("1012 variables"));
+            assert!(note.contains(&format!("all {n} nodes")) && note.contains("1013 variables"));
             // Choosing the nodes silences it: the user asked for them.
             let chosen = PackRequest {
                 nodes: Some((1..=n as i64).collect()),

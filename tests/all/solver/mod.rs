@@ -1,6 +1,8 @@
 //! The blocked-body methods (exact, implicit, explicit) built by `solver::build`.
 
+mod damping_ratio;
 mod exact;
 mod fe_reference;
 mod integrators;
 mod outputs;
+mod rotations;

@@ -66,6 +66,9 @@ impl Explicit {
         if m.ray_b != 0.0 {
             w.s_l.gemv(-m.ray_b, &m.k_l, &vl, 1.0);
         }
+        if let Some(c) = &m.c_add {
+            w.s_l.gemv(-1.0, c, &vl, 1.0);
+        }
         for j in 0..nl {
             w.s_l[j] -= m.ray_a * m.m_l[j] * vl[j];
         }

@@ -105,6 +105,9 @@ impl Implicit {
                 for (&kjk, &uk) in m.k_l_rows[j * nl..(j + 1) * nl].iter().zip(&w.z) {
                     s -= kjk * uk;
                 }
+                if let Some(c) = &m.c_add {
+                    s -= (0..nl).map(|k| c[(j, k)] * w.vn[nr + k]).sum::<f64>();
+                }
                 w.res[nr + j] = s;
             }
             let vn = w.vn.as_slice();
@@ -234,6 +237,9 @@ impl Implicit {
             for j in 0..nl {
                 for k in 0..nl {
                     *w.lfac.at(j, k) = (bt + gt * m.ray_b) * m.k_l[(j, k)];
+                    if let Some(c) = &m.c_add {
+                        *w.lfac.at(j, k) += gt * c[(j, k)];
+                    }
                 }
                 *w.lfac.at(j, j) += m.m_l[j] * (1.0 + gt * m.ray_a);
             }
