@@ -7,6 +7,7 @@ use crate::fxb::FxbFile;
 
 mod checks;
 mod load;
+pub mod mass_props;
 mod modal;
 pub mod placement;
 

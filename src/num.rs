@@ -14,9 +14,27 @@ pub fn num(x: f64) -> String {
     }
 }
 
+/// `n` and a noun with the plural it needs: `count(1, "node")` is `1 node`,
+/// `count(2, "node")` is `2 nodes` (regular plurals only), so no message says
+/// "1 exposed nodes".
+pub fn count(n: usize, noun: &str) -> String {
+    if n == 1 {
+        format!("1 {noun}")
+    } else {
+        format!("{n} {noun}s")
+    }
+}
+
 #[cfg(test)]
 mod tests {
-    use super::num;
+    use super::{count, num};
+
+    #[test]
+    fn counts_take_the_plural_they_need() {
+        assert_eq!(count(1, "exposed node"), "1 exposed node");
+        assert_eq!(count(0, "local mode"), "0 local modes");
+        assert_eq!(count(21, "node"), "21 nodes");
+    }
 
     #[test]
     fn large_and_small_numbers_are_short_and_read_back_exactly() {

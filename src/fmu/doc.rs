@@ -5,7 +5,7 @@ use std::fmt::Write;
 
 use super::options::SceneOptions;
 use super::vars::{Causality, VarTable, method_name};
-use super::xml::{default_experiment, feeds_through, modes_summary};
+use super::xml::{feeds_through, modes_summary};
 use crate::scene::Scene;
 
 fn esc(s: &str) -> String {
@@ -24,13 +24,13 @@ pub fn index_html(scene: &Scene, table: &VarTable, opts: &SceneOptions, guid: &s
         "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>{0}</title></head><body>\n<h1>{0}</h1>\n",
         esc(&opts.name)
     );
-    let (stop, step) = default_experiment(scene);
+    let (stop, step) = opts.experiment(scene);
     let _ = write!(
         h,
         "<p>A Radioss flexible body (/FXBODY) as an FMI 2.0 co-simulation unit, packed by fxbody {} \
          (GUID {}).</p>\n<ul>\n<li>{} body, {} nodes, {} ({} static), rotational DOFs: {}</li>\n\
          <li>Damping: {}</li>\n<li>Explicit stable step (from the largest computed eigenfrequency {:.6e} Hz; stored Freq {:.6e} Hz): {:.6e} s</li>\n\
-         <li>Default experiment: stop {} s, step {} s</li>\n<li>Methods: {}; default {}</li>\n<li>Units: {}</li>\n</ul>\n",
+         <li>Default experiment: stop {} s, step {} s</li>\n<li>Methods: {}; default {}</li>\n<li>Units: {}</li>\n<li>Platforms: {}</li>\n</ul>\n",
         env!("CARGO_PKG_VERSION"),
         esc(guid),
         if table.free { "Free" } else { "Blocked" },
@@ -57,6 +57,10 @@ pub fn index_html(scene: &Scene, table: &VarTable, opts: &SceneOptions, guid: &s
         opts.units
             .map_or("none declared (the file's own consistent system)", |u| u
                 .name()),
+        std::iter::once(super::platforms::NATIVE)
+            .chain(opts.platforms.iter().map(String::as_str))
+            .collect::<Vec<_>>()
+            .join(", "),
     );
     h.push_str("<h2>Eigenfrequencies of the kept local modes (Hz)</h2>\n<p>");
     let f: Vec<String> = b.frequencies_hz.iter().map(|f| format!("{f:.6}")).collect();

@@ -4,10 +4,13 @@
 pub mod doc;
 pub mod guard;
 pub mod hash;
+pub mod header;
 pub mod model;
 mod model_error;
 pub mod options;
+pub mod osp;
 pub mod pack;
+pub mod platforms;
 pub mod scene_io;
 pub mod scenefile;
 pub mod snapshot;

@@ -61,8 +61,16 @@ pub struct Model {
 impl Model {
     /// Read the resources folder and set up a model at its start values.
     pub fn from_resources(dir: &Path) -> Result<Model, ResourceError> {
-        let Resources { scene, guid, .. } = load_resources(dir)?;
-        Ok(Model::new(scene, guid))
+        let Resources {
+            scene,
+            guid,
+            options,
+        } = load_resources(dir)?;
+        let mut model = Model::new(scene, guid);
+        // `pack --method`: the start value the description declares.
+        model.table = model.table.with_default_method(options.method);
+        model.method = model.table.default_method;
+        Ok(model)
     }
 
     /// A model for a scene at its start values.
@@ -150,10 +158,10 @@ impl Model {
         self.loads_dirty = true;
         self.rates_applied = true;
         Ok(Some(format!(
-            "built the {} solver: {} local modes, {} exposed nodes, rho_inf {}, damping.ratio {}",
+            "built the {} solver: {}, {}, rho_inf {}, damping.ratio {}",
             method_name(self.method),
-            self.scene.body.nl(),
-            self.scene.nodes.len(),
+            crate::num::count(self.scene.body.nl(), "local mode"),
+            crate::num::count(self.scene.nodes.len(), "exposed node"),
             self.opts.rho_inf,
             self.opts.damping_ratio
         )))

@@ -4,9 +4,17 @@
 //!
 //! Format: `key = value` lines, `#` comments, keys `format` (must be 1), `name`, `nodes`
 //! (IDs separated by blanks), `units` (absent: no units declared), `fmax` (Hz; absent:
-//! no mode truncation).
+//! no mode truncation), `step` and `stop` (s; the DefaultExperiment, absent: derived from
+//! the body), `method` (`explicit`, `implicit` or `exact`: the `method` parameter's start
+//! value; absent: the body's default) and `platforms` (FMI platform names of libraries
+//! added besides linux64, separated by blanks).
 
 use std::fmt::Write;
+
+use super::platforms::{UnknownPlatform, check_platform};
+use super::vars::method_name;
+use crate::scene::Scene;
+use crate::solver::Method;
 
 /// A unit system name that is neither SI nor mm-t-s.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
@@ -49,6 +57,32 @@ pub enum OptionsError {
         at: String,
         /// The value text.
         value: String,
+    },
+    /// `step` or `stop` that is not a finite time > 0.
+    #[error("{at}: {key}: expected a time > 0 (s), found '{value}'")]
+    Time {
+        /// File and line.
+        at: String,
+        /// `step` or `stop`.
+        key: &'static str,
+        /// The value text.
+        value: String,
+    },
+    /// `method` naming no method.
+    #[error("{at}: method: expected explicit, implicit or exact, found '{value}'")]
+    Method {
+        /// File and line.
+        at: String,
+        /// The value text.
+        value: String,
+    },
+    /// `platforms` naming no FMI 2.0 platform.
+    #[error("{at}: {source}")]
+    Platform {
+        /// File and line.
+        at: String,
+        /// Why.
+        source: UnknownPlatform,
     },
     /// A key this version does not know.
     #[error("{at}: unknown key '{key}'")]
@@ -105,7 +139,7 @@ impl UnitSystem {
 }
 
 /// What `fxbody pack` was asked for, after defaults.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct SceneOptions {
     /// Model name (modelName; the modelIdentifier is its C-identifier form).
     pub name: String,
@@ -116,6 +150,24 @@ pub struct SceneOptions {
     /// Keep the modes up to this frequency (Hz) with a static correction for the rest
     /// (`pack --fmax`, [`crate::reduce`]); `None`: all modes.
     pub fmax: Option<f64>,
+    /// DefaultExperiment step size (`pack --step`), s; `None`: derived from the body
+    /// ([`super::xml::default_experiment`]).
+    pub step: Option<f64>,
+    /// DefaultExperiment stop time (`pack --stop`), s; `None`: derived from the body.
+    pub stop: Option<f64>,
+    /// Start value of the `method` parameter (`pack --method`), for masters that cannot
+    /// set parameters; `None`: the body's default (exact blocked, implicit free).
+    pub method: Option<Method>,
+    /// FMI platforms of libraries added besides linux64 (`pack --binary`).
+    pub platforms: Vec<String>,
+}
+
+/// A method by its name (`explicit`, `implicit`, `exact`), as `pack --method` and
+/// scene.txt spell it.
+pub fn method_by_name(name: &str) -> Option<Method> {
+    [Method::Explicit, Method::Implicit, Method::Exact]
+        .into_iter()
+        .find(|&m| method_name(m) == name)
 }
 
 impl SceneOptions {
@@ -139,6 +191,13 @@ impl SceneOptions {
         id
     }
 
+    /// The DefaultExperiment `(stop time, step size)`: `--stop` and `--step` where given,
+    /// else derived from the body ([`super::xml::default_experiment`]).
+    pub fn experiment(&self, scene: &Scene) -> (f64, f64) {
+        let (stop, step) = super::xml::default_experiment(scene);
+        (self.stop.unwrap_or(stop), self.step.unwrap_or(step))
+    }
+
     /// The scene.txt text.
     pub fn to_text(&self) -> String {
         let mut s = String::from("# fxbody scene options (written by fxbody pack)\nformat = 1\n");
@@ -151,6 +210,18 @@ impl SceneOptions {
         if let Some(f) = self.fmax {
             let _ = writeln!(s, "fmax = {f:?}");
         }
+        if let Some(h) = self.step {
+            let _ = writeln!(s, "step = {h:?}");
+        }
+        if let Some(t) = self.stop {
+            let _ = writeln!(s, "stop = {t:?}");
+        }
+        if let Some(m) = self.method {
+            let _ = writeln!(s, "method = {}", method_name(m));
+        }
+        if !self.platforms.is_empty() {
+            let _ = writeln!(s, "platforms = {}", self.platforms.join(" "));
+        }
         s
     }
 
@@ -161,6 +232,8 @@ impl SceneOptions {
         let mut units = None;
         let mut format = None;
         let mut fmax = None;
+        let (mut step, mut stop, mut method) = (None, None, None);
+        let mut platforms = Vec::new();
         for (k, line) in text.lines().enumerate() {
             let line = line.trim();
             if line.is_empty() || line.starts_with('#') {
@@ -202,6 +275,38 @@ impl SceneOptions {
                         value: value.to_string(),
                     })?);
                 }
+                key @ ("step" | "stop") => {
+                    let key = if key == "step" { "step" } else { "stop" };
+                    let t = value
+                        .parse::<f64>()
+                        .ok()
+                        .filter(|t| t.is_finite() && *t > 0.0)
+                        .ok_or_else(|| OptionsError::Time {
+                            at,
+                            key,
+                            value: value.to_string(),
+                        })?;
+                    if key == "step" {
+                        step = Some(t);
+                    } else {
+                        stop = Some(t);
+                    }
+                }
+                "method" => {
+                    method = Some(method_by_name(value).ok_or_else(|| OptionsError::Method {
+                        at,
+                        value: value.to_string(),
+                    })?);
+                }
+                "platforms" => {
+                    for p in value.split_whitespace() {
+                        check_platform(p).map_err(|source| OptionsError::Platform {
+                            at: at.clone(),
+                            source,
+                        })?;
+                        platforms.push(p.to_string());
+                    }
+                }
                 other => {
                     return Err(OptionsError::UnknownKey {
                         at,
@@ -227,6 +332,10 @@ impl SceneOptions {
             })?,
             units,
             fmax,
+            step,
+            stop,
+            method,
+            platforms,
         })
     }
 }
@@ -242,6 +351,10 @@ mod tests {
             nodes: vec![12, -3, 7],
             units: Some(UnitSystem::Si),
             fmax: Some(13.5),
+            step: Some(5e-4),
+            stop: Some(2.0),
+            method: Some(Method::Explicit),
+            platforms: vec!["win64".into(), "darwin64".into()],
         };
         let back = SceneOptions::parse(&o.to_text(), "scene.txt").unwrap();
         assert_eq!(back, o);
@@ -258,5 +371,27 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("format = 2"), "{e}");
+        for (line, what) in [
+            (
+                "step = -1",
+                "s.txt:4: step: expected a time > 0 (s), found '-1'",
+            ),
+            (
+                "method = fast",
+                "s.txt:4: method: expected explicit, implicit or exact",
+            ),
+            (
+                "platforms = win64 amiga",
+                "s.txt:4: unknown FMI 2.0 platform 'amiga'",
+            ),
+        ] {
+            let e = SceneOptions::parse(
+                &format!("format = 1\nname = a\nnodes = 1\n{line}\n"),
+                "s.txt",
+            )
+            .unwrap_err()
+            .to_string();
+            assert!(e.starts_with(what), "{e}");
+        }
     }
 }

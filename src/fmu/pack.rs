@@ -112,6 +112,46 @@ pub enum PackError {
         /// Why.
         source: std::io::Error,
     },
+    /// `--step` or `--stop` not a finite time > 0.
+    #[error("--{what}: expected a time > 0 (s), found {}", crate::num::num(*.value))]
+    Time {
+        /// `step` or `stop`.
+        what: &'static str,
+        /// The value given.
+        value: f64,
+    },
+    /// The step is longer than the stop time.
+    #[error(
+        "--step {} s is longer than the DefaultExperiment stop time {} s{}",
+        crate::num::num(*.step), crate::num::num(*.stop),
+        if *.stop_given { "" } else { " (derived from the body): give --stop too" }
+    )]
+    StepAfterStop {
+        /// The step.
+        step: f64,
+        /// The stop time.
+        stop: f64,
+        /// Whether the stop time was given.
+        stop_given: bool,
+    },
+    /// `--binary` with a bad platform or file.
+    #[error("--binary {platform}={}: {why}", .path.display())]
+    Binary {
+        /// The platform name.
+        platform: String,
+        /// The library path.
+        path: PathBuf,
+        /// Why it was refused.
+        why: String,
+    },
+    /// The OSP model description could not be written.
+    #[error("{}: cannot write the OSP model description: {source}", .path.display())]
+    WriteOsp {
+        /// Its path.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
     /// The archive could not be built.
     #[error(transparent)]
     Zip(#[from] ZipError),
@@ -171,6 +211,22 @@ pub struct PackRequest {
     pub embed_source: bool,
 }
 
+/// What `pack` is asked beyond the files: mode truncation, the DefaultExperiment, the
+/// method's start value and libraries for other platforms.
+#[derive(Debug, Clone, Default)]
+pub struct PackOptions {
+    /// `--fmax HZ|auto`.
+    pub fmax: Option<Fmax>,
+    /// `--step H` (s): the DefaultExperiment step size (and `--fmax auto`'s H).
+    pub step: Option<f64>,
+    /// `--stop T` (s): the DefaultExperiment stop time.
+    pub stop: Option<f64>,
+    /// `--method`: the `method` parameter's start value.
+    pub method: Option<crate::solver::Method>,
+    /// `--binary PLATFORM=PATH`: libraries built on other platforms.
+    pub binaries: Vec<(String, PathBuf)>,
+}
+
 /// A scene ready to be described or packed.
 pub struct Prepared {
     /// The scene.
@@ -193,6 +249,8 @@ pub struct Prepared {
     pub xml: String,
     /// Notes for the user (derived coordinates, body warnings).
     pub notes: Vec<String>,
+    /// Libraries for other platforms (`--binary`), by FMI platform name.
+    pub other_binaries: Vec<(String, Vec<u8>)>,
 }
 
 /// Read and check everything, and generate the description (no library needed).
@@ -213,16 +271,57 @@ pub enum Fmax {
 /// (here and in the FMU, from the full file) keeps the modes up to it plus the residual
 /// flexibility of the rest ([`crate::reduce`]).
 pub fn prepare_with(req: &PackRequest, fmax: Option<Fmax>) -> Result<Prepared, PackError> {
-    prepare_reporting(req, fmax, &mut |_, _| {})
+    prepare_opts(
+        req,
+        &PackOptions {
+            fmax,
+            ..PackOptions::default()
+        },
+    )
 }
 
-/// [`prepare_with`], telling `progress` (bytes parsed, total) while the body file is
+/// [`prepare`] with every pack option ([`PackOptions`]); the libraries of `--binary`
+/// are checked here, before anything is written.
+pub fn prepare_opts(req: &PackRequest, popts: &PackOptions) -> Result<Prepared, PackError> {
+    prepare_reporting(req, popts, &mut |_, _| {})
+}
+
+/// [`prepare_opts`], telling `progress` (bytes parsed, total) while the body file is
 /// read ([`body::load_reporting`]).
 pub fn prepare_reporting(
     req: &PackRequest,
-    fmax: Option<Fmax>,
+    popts: &PackOptions,
     progress: &mut dyn FnMut(u64, u64),
 ) -> Result<Prepared, PackError> {
+    for (what, v) in [("step", popts.step), ("stop", popts.stop)] {
+        if let Some(value) = v
+            && !(value.is_finite() && value > 0.0)
+        {
+            return Err(PackError::Time { what, value });
+        }
+    }
+    let mut platforms = Vec::new();
+    let mut other_binaries = Vec::new();
+    for (platform, path) in &popts.binaries {
+        let refuse = |why: String| PackError::Binary {
+            platform: platform.clone(),
+            path: path.clone(),
+            why,
+        };
+        if platform == super::platforms::NATIVE {
+            return Err(refuse(format!(
+                "{platform} is the library this pack embeds itself (give it with --lib)"
+            )));
+        }
+        if platforms.contains(platform) {
+            return Err(refuse(format!("{platform} is given twice")));
+        }
+        let bytes = std::fs::read(path).map_err(|e| refuse(format!("cannot read: {e}")))?;
+        super::platforms::check_library(platform, &bytes).map_err(refuse)?;
+        platforms.push(platform.clone());
+        other_binaries.push((platform.clone(), bytes));
+    }
+    let fmax = popts.fmax;
     let body_name = req.body.display().to_string();
     let (body, body_bytes) = body::load_reporting(&req.body, progress)?;
     let mut notes: Vec<String> = body
@@ -291,8 +390,14 @@ pub fn prepare_reporting(
         None => None,
         Some(Fmax::Hz(f)) => Some(f),
         Some(Fmax::Auto) => {
-            let probe = Scene::new(std::sync::Arc::new(body.clone()), Vec::new(), Vec::new());
-            let h = super::xml::default_experiment(&probe).1;
+            let h = match popts.step {
+                Some(h) => h,
+                None => {
+                    let probe =
+                        Scene::new(std::sync::Arc::new(body.clone()), Vec::new(), Vec::new());
+                    super::xml::default_experiment(&probe).1
+                }
+            };
             notes.push(format!(
                 "--fmax auto: {} Hz, twice the Nyquist frequency 1/(2H) of the DefaultExperiment step H = {h} s",
                 1.0 / h
@@ -333,17 +438,40 @@ pub fn prepare_reporting(
         None => {}
     }
     let all_exposed = req.nodes.is_none();
+    for &id in &nodes {
+        let n = body.node_index(id).unwrap_or(0);
+        let moved = [&body.phi_r, &body.phi_l]
+            .iter()
+            .any(|m| (6 * n..6 * n + 6).any(|r| m.row(r).iter().any(|&v| v != 0.0)));
+        if !moved {
+            notes.push(format!(
+                "warning: node {id} is fully blocked: no mode of {body_name} moves it, so its outputs stay at their initial values and loads on it do nothing"
+            ));
+        }
+    }
     let options = SceneOptions {
         name: req.name.clone().unwrap_or(stem),
         nodes,
         units,
         fmax,
+        step: popts.step,
+        stop: popts.stop,
+        method: popts.method,
+        platforms,
     };
     let options_text = options.to_text();
     let scene = make_scene(body, &map, &options, &body_name)?;
     let scene_file = scenefile::to_bytes(&scene);
     let guid = guid(scenefile::checksum_of(&scene_file), &options_text);
-    let table = VarTable::new(&scene);
+    let table = VarTable::new(&scene).with_default_method(options.method);
+    let (stop, step) = options.experiment(&scene);
+    if step > stop {
+        return Err(PackError::StepAfterStop {
+            step,
+            stop,
+            stop_given: options.stop.is_some(),
+        });
+    }
     if all_exposed && table.vars.len() > 1000 {
         notes.push(format!(
             "warning: all {} nodes are exposed, which makes {} variables; expose only the nodes the scene couples to (--nodes or --nodes-file)",
@@ -363,6 +491,7 @@ pub fn prepare_reporting(
         options_text,
         xml,
         notes,
+        other_binaries,
     })
 }
 
@@ -457,7 +586,7 @@ pub fn find_library(explicit: Option<&Path>) -> Result<PathBuf, PackError> {
 /// The archive bytes for a prepared scene and the library bytes.
 pub fn archive(p: &Prepared, lib: &[u8]) -> Result<Vec<u8>, PackError> {
     let id = p.options.model_identifier();
-    let entries = vec![
+    let mut entries = vec![
         Entry {
             name: "modelDescription.xml".into(),
             data: p.xml.clone().into_bytes(),
@@ -469,7 +598,16 @@ pub fn archive(p: &Prepared, lib: &[u8]) -> Result<Vec<u8>, PackError> {
             mode: 0o755,
         },
     ];
-    let mut entries = entries;
+    for (platform, data) in &p.other_binaries {
+        entries.push(Entry {
+            name: format!(
+                "binaries/{platform}/{}",
+                super::platforms::library_name(platform, &id)
+            ),
+            data: data.clone(),
+            mode: 0o755,
+        });
+    }
     entries.extend(resource_entries(p));
     entries.push(Entry {
         name: "documentation/index.html".into(),
@@ -541,13 +679,32 @@ pub fn pack_with(
     lib: &Path,
     out: &Path,
 ) -> Result<Prepared, PackError> {
-    pack_reporting(req, fmax, lib, out, &mut |_, _| {})
+    pack_opts(
+        req,
+        &PackOptions {
+            fmax,
+            ..PackOptions::default()
+        },
+        lib,
+        out,
+    )
 }
 
-/// [`pack_with`], telling `progress` (bytes parsed, total) while the body file is read.
+/// [`pack`] with every pack option ([`prepare_opts`]); also writes the OSP model
+/// description beside the archive ([`super::osp::osp_path`]).
+pub fn pack_opts(
+    req: &PackRequest,
+    popts: &PackOptions,
+    lib: &Path,
+    out: &Path,
+) -> Result<Prepared, PackError> {
+    pack_reporting(req, popts, lib, out, &mut |_, _| {})
+}
+
+/// [`pack_opts`], telling `progress` (bytes parsed, total) while the body file is read.
 pub fn pack_reporting(
     req: &PackRequest,
-    fmax: Option<Fmax>,
+    popts: &PackOptions,
     lib: &Path,
     out: &Path,
     progress: &mut dyn FnMut(u64, u64),
@@ -557,7 +714,7 @@ pub fn pack_reporting(
         inputs.push(("coordinate file", c));
     }
     refuse_overwrite(out, &inputs)?;
-    let p = prepare_reporting(req, fmax, progress)?;
+    let p = prepare_reporting(req, popts, progress)?;
     let lib_bytes = std::fs::read(lib).map_err(|source| PackError::ReadLib {
         path: lib.to_path_buf(),
         source,
@@ -567,5 +724,11 @@ pub fn pack_reporting(
         path: out.to_path_buf(),
         source,
     })?;
+    let osp = super::osp::osp_path(out, &p.options.name);
+    std::fs::write(
+        &osp,
+        super::osp::osp_model_description(&p.table, &p.options),
+    )
+    .map_err(|source| PackError::WriteOsp { path: osp, source })?;
     Ok(p)
 }

@@ -37,6 +37,14 @@ pub enum SceneError {
     /// No exposed node at all.
     #[error("no exposed nodes: give at least one node ID")]
     NoNodes,
+    /// `method = exact` for a free body.
+    #[error(
+        "method exact: exact modal stepping needs a blocked body; {body} is free and offers explicit or implicit"
+    )]
+    ExactOnFree {
+        /// The body file.
+        body: String,
+    },
     /// Mode truncation (`fmax`) failed.
     #[error("{body}: {source}")]
     Truncation {
@@ -108,6 +116,11 @@ pub fn make_scene(
     opts: &SceneOptions,
     body_name: &str,
 ) -> Result<Scene, SceneError> {
+    if opts.method == Some(crate::solver::Method::Exact) && !body.iblo {
+        return Err(SceneError::ExactOnFree {
+            body: body_name.to_string(),
+        });
+    }
     let mut nodes = Vec::with_capacity(opts.nodes.len());
     let mut x0 = Vec::with_capacity(opts.nodes.len());
     for &id in &opts.nodes {
@@ -246,8 +259,7 @@ pub(crate) fn cantilever_tip_scene() -> Scene {
     let opts = SceneOptions {
         name: "t".into(),
         nodes: vec![121],
-        units: None,
-        fmax: None,
+        ..SceneOptions::default()
     };
     make_scene(body, &xyz, &opts, "cantilever").unwrap()
 }

@@ -354,6 +354,21 @@ impl VarTable {
         }
     }
 
+    /// The table with `m` as the `method` start value (`pack --method`, read back from
+    /// scene.txt); `None` keeps the body's default. The scene check
+    /// ([`super::scene_io::make_scene`]) has refused a method the body does not offer.
+    pub fn with_default_method(mut self, m: Option<Method>) -> VarTable {
+        if let Some(m) = m {
+            self.default_method = m;
+            for v in &mut self.vars {
+                if v.kind == Kind::Method {
+                    v.start = Some(m as i32 as f64);
+                }
+            }
+        }
+        self
+    }
+
     /// The variable with value reference `vr`.
     pub fn get(&self, vr: u32) -> Option<&Variable> {
         self.vars.get(vr as usize)

@@ -6,6 +6,7 @@ use std::fmt::Write;
 
 use super::options::{SceneOptions, UnitSystem};
 use super::vars::{Causality, Kind, Quantity, VarTable, method_range};
+use crate::num::count;
 use crate::scene::Scene;
 
 /// Log categories the FMU declares, with descriptions; the FMI layer uses the same list.
@@ -96,7 +97,7 @@ fn nice(v: f64, up: bool) -> f64 {
 
 /// Unit name of a quantity in a unit system, with its SI base-unit exponents
 /// (kg, m, s) and factor to SI.
-fn unit(q: Quantity, u: UnitSystem) -> Option<(&'static str, [i32; 3], f64)> {
+pub(crate) fn unit(q: Quantity, u: UnitSystem) -> Option<(&'static str, [i32; 3], f64)> {
     use Quantity::*;
     use UnitSystem::*;
     Some(match (q, u) {
@@ -115,6 +116,27 @@ fn unit(q: Quantity, u: UnitSystem) -> Option<(&'static str, [i32; 3], f64)> {
         (Energy, Si) => ("J", [1, 2, -2], 1.0),
         (Energy, MmTonneS) => ("mJ", [1, 2, -2], 1e-3),
     })
+}
+
+/// A `<Unit>` element (FMI 2.0's, which the OSP model description shares) for a unit of
+/// [`unit`], indented for `<UnitDefinitions>`.
+pub(crate) fn unit_element((name, [kg, m, s], factor): (&str, [i32; 3], f64)) -> String {
+    let mut base = String::new();
+    for (k, e) in [("kg", kg), ("m", m), ("s", s)] {
+        if e != 0 {
+            let _ = write!(base, " {k}=\"{e}\"");
+        }
+    }
+    if name.starts_with("rad") {
+        base.push_str(" rad=\"1\"");
+    }
+    if factor != 1.0 {
+        let _ = write!(base, " factor=\"{}\"", real(factor));
+    }
+    format!(
+        "    <Unit name=\"{}\">\n      <BaseUnit{base}/>\n    </Unit>\n",
+        escape(name)
+    )
 }
 
 /// Whether output `i` of the table depends on the inputs at the same instant (a direct
@@ -136,10 +158,11 @@ pub fn modes_summary(scene: &Scene) -> String {
     let nl = scene.body.nl();
     match &scene.residual {
         Some(r) => format!(
-            "{nl} local modes kept, residual correction of {} dropped modes",
-            r.dropped
+            "{} kept, residual correction of {}",
+            count(nl, "local mode"),
+            count(r.dropped, "dropped mode")
         ),
-        None => format!("{nl} local modes, no residual correction"),
+        None => format!("{}, no residual correction", count(nl, "local mode")),
     }
 }
 
@@ -154,10 +177,10 @@ pub fn model_description(
     let body = &scene.body;
     let kind = if table.free { "free" } else { "blocked" };
     let description = format!(
-        "Radioss flexible body ({kind}, {} nodes, {}, {} exposed nodes), by fxbody",
-        body.nnodes(),
+        "Radioss flexible body ({kind}, {}, {}, {}), by fxbody",
+        count(body.nnodes(), "node"),
         modes_summary(scene),
-        scene.nodes.len()
+        count(scene.nodes.len(), "exposed node")
     );
     x.push_str("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
     let _ = writeln!(
@@ -181,28 +204,12 @@ pub fn model_description(
         let mut seen: Vec<&str> = Vec::new();
         x.push_str("  <UnitDefinitions>\n");
         for v in &table.vars {
-            if let Some((name, [kg, m, s], factor)) = unit(v.quantity, u) {
-                if seen.contains(&name) {
+            if let Some(def) = unit(v.quantity, u) {
+                if seen.contains(&def.0) {
                     continue;
                 }
-                seen.push(name);
-                let mut base = String::new();
-                for (k, e) in [("kg", kg), ("m", m), ("s", s)] {
-                    if e != 0 {
-                        let _ = write!(base, " {k}=\"{e}\"");
-                    }
-                }
-                if name.starts_with("rad") {
-                    base.push_str(" rad=\"1\"");
-                }
-                if factor != 1.0 {
-                    let _ = write!(base, " factor=\"{}\"", real(factor));
-                }
-                let _ = writeln!(
-                    x,
-                    "    <Unit name=\"{}\">\n      <BaseUnit{base}/>\n    </Unit>",
-                    escape(name)
-                );
+                seen.push(def.0);
+                x.push_str(&unit_element(def));
             }
         }
         x.push_str("  </UnitDefinitions>\n");
@@ -216,13 +223,22 @@ pub fn model_description(
         );
     }
     x.push_str("  </LogCategories>\n");
-    let (stop, step) = default_experiment(scene);
+    let (stop, step) = opts.experiment(scene);
     let _ = writeln!(
         x,
         "  <DefaultExperiment startTime=\"0.0\" stopTime=\"{}\" stepSize=\"{}\"/>",
         real(stop),
         real(step)
     );
+    if !opts.platforms.is_empty() {
+        // FMI 2.0 has no platform list; a tool annotation records what pack --binary added.
+        let _ = writeln!(
+            x,
+            "  <VendorAnnotations>\n    <Tool name=\"fxbody\">\n      <Platforms native=\"{}\" added=\"{}\"/>\n    </Tool>\n  </VendorAnnotations>",
+            super::platforms::NATIVE,
+            escape(&opts.platforms.join(" "))
+        );
+    }
     x.push_str("  <ModelVariables>\n");
     for (i, v) in table.vars.iter().enumerate() {
         let (causality, variability, initial) = match v.causality {

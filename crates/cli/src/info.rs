@@ -5,6 +5,7 @@ use std::fmt::Write;
 use std::path::PathBuf;
 
 use fxbody::body::Body;
+use fxbody::body::mass_props::{MassProperties, mass_properties};
 
 /// Arguments of `info`.
 #[derive(Debug, clap::Args)]
@@ -14,10 +15,11 @@ pub struct InfoArgs {
     /// Print one JSON object instead of text.
     #[arg(long)]
     pub json: bool,
-    /// Also report, at these node IDs, the share of the static deflection each mode
-    /// carries, and (free bodies) each mode's effective mass: what truncation costs.
-    #[arg(long, value_delimiter = ',')]
-    pub nodes: Option<Vec<i64>>,
+    /// Also report, at these node IDs (separated by commas and/or blanks), the share of
+    /// the static deflection each mode carries, and (free bodies) each mode's effective
+    /// mass: what truncation costs. With --json, the `modes` key of the one object.
+    #[arg(long, value_parser = crate::nodes::id_list)]
+    pub nodes: Option<crate::nodes::NodeIds>,
 }
 
 /// What `info` reports, computed once for both output forms.
@@ -28,6 +30,10 @@ struct Info {
     freq_max_hz: f64,
     dt_stab_s: f64,
     mass: Option<f64>,
+    /// Free bodies: mass, centre of gravity and inertia from M_R.
+    props: Option<MassProperties>,
+    /// `--nodes`: the per-mode report (text, or the JSON value of `modes`).
+    modes: Option<String>,
 }
 
 /// Run `info`: the report on stdout, or the error message (for exit code 2).
@@ -36,7 +42,18 @@ pub fn run(args: &InfoArgs) -> Result<(), String> {
     let (body, _) =
         fxbody::body::load_reporting(&args.file, &mut |done, total| progress.update(done, total))
             .map_err(|e| e.to_string())?;
+    // The node list is checked before anything is printed.
+    let modes = match &args.nodes {
+        Some(ids) => {
+            let nodes =
+                fxbody::reduce::node_indices(&body, &ids.0).map_err(|e| format!("--nodes: {e}"))?;
+            Some(super::info_modes::report(&body, &nodes, args.json))
+        }
+        None => None,
+    };
     let info = Info {
+        props: mass_properties(&body),
+        modes,
         nbmod: body.nl(),
         idamp: body.damping.is_some(),
         freq_max_hz: body.freq_max_hz(),
@@ -53,14 +70,6 @@ pub fn run(args: &InfoArgs) -> Result<(), String> {
         text(&info, &args.file)
     };
     print!("{out}");
-    if let Some(ids) = &args.nodes {
-        let nodes =
-            fxbody::reduce::node_indices(&info.body, ids).map_err(|e| format!("--nodes: {e}"))?;
-        print!(
-            "{}",
-            super::info_modes::report(&info.body, &nodes, args.json)
-        );
-    }
     Ok(())
 }
 
@@ -120,6 +129,26 @@ fn json(i: &Info) -> String {
     );
     let _ = writeln!(o, "  \"dt_stab_s\": {},", num(i.dt_stab_s));
     let _ = writeln!(o, "  \"mass\": {},", i.mass.map_or("null".into(), num));
+    let (alpha, beta) = b.damping.map_or(("null".into(), "null".into()), |d| {
+        (num(d.alpha), num(d.beta))
+    });
+    let _ = writeln!(o, "  \"rayleigh_alpha\": {alpha},");
+    let _ = writeln!(o, "  \"rayleigh_beta\": {beta},");
+    let (cog, inertia) = i
+        .props
+        .as_ref()
+        .map_or(("null".into(), "null".into()), |p| {
+            let c: Vec<f64> = p.cog_from_l0.iter().copied().collect();
+            let rows: Vec<String> = (0..3)
+                .map(|r| list(&[0, 1, 2], |&c| num(p.inertia[(r, c)])))
+                .collect();
+            (list(&c, |v| num(*v)), format!("[{}]", rows.join(", ")))
+        });
+    let _ = writeln!(o, "  \"cog_from_l0\": {cog},");
+    let _ = writeln!(o, "  \"inertia_at_cog\": {inertia},");
+    if let Some(m) = &i.modes {
+        let _ = writeln!(o, "  \"modes\": {},", m.trim_end());
+    }
     let _ = writeln!(o, "  \"warnings\": {}", list(&b.warnings, |w| json_str(w)));
     o.push_str("}\n");
     o
@@ -195,11 +224,33 @@ fn text(i: &Info, path: &std::path::Path) -> String {
         }
         None => o.push_str("total mass: not in the file (blocked body)\n"),
     }
+    if let Some(p) = &i.props {
+        let v = |x: &[f64]| {
+            x.iter()
+                .map(|v| significant(*v, 7))
+                .collect::<Vec<_>>()
+                .join(" ")
+        };
+        let c: Vec<f64> = p.cog_from_l0.iter().copied().collect();
+        let _ = writeln!(
+            o,
+            "centre of gravity (from M_R), relative to the frame origin L0, global axes: {}",
+            v(&c)
+        );
+        o.push_str("inertia tensor at the centre of gravity (from M_R), global axes:\n");
+        for r in 0..3 {
+            let row: Vec<f64> = (0..3).map(|c| p.inertia[(r, c)]).collect();
+            let _ = writeln!(o, "  {}", v(&row));
+        }
+    }
     if b.warnings.is_empty() {
         o.push_str("warnings: none\n");
     }
     for w in &b.warnings {
         let _ = writeln!(o, "warning: {w}");
+    }
+    if let Some(m) = &i.modes {
+        o.push_str(m);
     }
     o
 }

@@ -6,6 +6,7 @@ mod demo;
 mod import;
 mod info;
 mod info_modes;
+mod nodes;
 mod pack;
 mod progress;
 mod reduce;
@@ -25,7 +26,7 @@ enum Command {
     /// Show what a .fxb file holds: counts, flags, nodes, frequencies, stable step, mass.
     Info(info::InfoArgs),
     /// Pack a .fxb file into an FMI 2.0 co-simulation FMU.
-    Pack(pack::PackArgs),
+    Pack(Box<pack::PackArgs>),
     /// Build a .fxb body from FE matrices (Nastran DMIG, Abaqus, CalculiX) and coordinates.
     Import(Box<import::ImportArgs>),
     /// Write a smaller .fxb: only the chosen nodes, only the modes up to fmax.

@@ -1,10 +1,15 @@
 //! `fxbody pack FILE -o OUT.fmu [--coords DECK|CSV] [--nodes ID,...] [--name NAME]
-//! [--units NAME] [--lib PATH] [--nodes-file FILE] [--fmax HZ|auto] [--embed-source]`: a flexible body as
-//! an FMI 2.0 co-simulation FMU.
+//! [--units NAME] [--lib PATH] [--nodes-file FILE] [--fmax HZ|auto] [--step H] [--stop T]
+//! [--method NAME] [--header FILE.h] [--binary PLATFORM=PATH]... [--embed-source]`: a
+//! flexible body as an FMI 2.0 co-simulation FMU, with its OSP model description beside it.
 
 use std::path::PathBuf;
 
-use fxbody::fmu::pack::{Fmax, PackRequest, find_library, pack_reporting, refuse_overwrite};
+use fxbody::fmu::options::method_by_name;
+use fxbody::fmu::pack::{
+    Fmax, PackOptions, PackRequest, find_library, pack_reporting, refuse_overwrite,
+};
+use fxbody::num::count;
 
 /// Arguments of `pack`.
 #[derive(Debug, clap::Args)]
@@ -19,9 +24,10 @@ pub struct PackArgs {
     /// rigid modes (frame origin at 0).
     #[arg(long)]
     pub coords: Option<PathBuf>,
-    /// Exposed node IDs, comma-separated (default: all nodes of the body).
-    #[arg(long, value_delimiter = ',', conflicts_with = "nodes_file")]
-    pub nodes: Option<Vec<i64>>,
+    /// Exposed node IDs, separated by commas and/or blanks (default: all nodes of the
+    /// body).
+    #[arg(long, value_parser = crate::nodes::id_list, conflicts_with = "nodes_file")]
+    pub nodes: Option<crate::nodes::NodeIds>,
     /// Exposed node IDs from a file: one ID per line or comma-separated, `#` starts a
     /// comment.
     #[arg(long)]
@@ -45,6 +51,35 @@ pub struct PackArgs {
     /// only: the FMU runs from its scene file, sized to the exposed nodes.
     #[arg(long)]
     pub embed_source: bool,
+    /// DefaultExperiment step size, s (default: derived from the lowest mode, at most
+    /// 1 ms); `--fmax auto` follows it.
+    #[arg(long)]
+    pub step: Option<f64>,
+    /// DefaultExperiment stop time, s (default: five periods of the lowest mode).
+    #[arg(long)]
+    pub stop: Option<f64>,
+    /// Start value of the `method` parameter: explicit, implicit or exact (exact: blocked
+    /// bodies only), for masters that cannot set parameters. Default: exact for blocked
+    /// bodies, implicit for free ones.
+    #[arg(long)]
+    pub method: Option<String>,
+    /// Also write a C header with the GUID and every variable's value reference.
+    #[arg(long)]
+    pub header: Option<PathBuf>,
+    /// Add a library built on another platform (`cargo build --release` there):
+    /// PLATFORM=PATH with an FMI 2.0 platform name (win32, win64, linux32, darwin32,
+    /// darwin64); repeatable.
+    #[arg(long, value_parser = binary_arg)]
+    pub binary: Vec<(String, PathBuf)>,
+}
+
+/// clap value parser of `--binary PLATFORM=PATH`.
+fn binary_arg(s: &str) -> Result<(String, PathBuf), String> {
+    let (p, path) = s
+        .split_once('=')
+        .ok_or_else(|| format!("expected PLATFORM=PATH, found '{s}'"))?;
+    fxbody::fmu::platforms::check_platform(p).map_err(|e| e.to_string())?;
+    Ok((p.to_string(), PathBuf::from(path)))
 }
 
 /// Run `pack`: a one-line summary on stdout, or the error message.
@@ -55,7 +90,7 @@ pub fn run(args: &PackArgs) -> Result<(), String> {
     }
     let nodes = match &args.nodes_file {
         Some(p) => Some(read_nodes_file(p)?),
-        None => args.nodes.clone(),
+        None => args.nodes.clone().map(|n| n.0),
     };
     let fmax = match args.fmax.as_deref() {
         None => None,
@@ -77,8 +112,24 @@ pub fn run(args: &PackArgs) -> Result<(), String> {
         units: args.units.clone(),
         embed_source: args.embed_source,
     };
+    let method = match args.method.as_deref() {
+        None => None,
+        Some(m) => Some(method_by_name(m).ok_or_else(|| {
+            format!("--method: expected explicit, implicit or exact, found '{m}'")
+        })?),
+    };
+    let popts = PackOptions {
+        fmax,
+        step: args.step,
+        stop: args.stop,
+        method,
+        binaries: args.binary.clone(),
+    };
+    if let Some(h) = &args.header {
+        refuse_overwrite(h, &[("body file", &args.file)]).map_err(|e| e.to_string())?;
+    }
     let progress = super::progress::Progress::start("packing");
-    let p = pack_reporting(&req, fmax, &lib, &args.output, &mut |done, total| {
+    let p = pack_reporting(&req, &popts, &lib, &args.output, &mut |done, total| {
         progress.update(done, total)
     })
     .map_err(|e| e.to_string())?;
@@ -86,16 +137,23 @@ pub fn run(args: &PackArgs) -> Result<(), String> {
     for n in &p.notes {
         eprintln!("fxbody pack: {n}");
     }
+    if let Some(h) = &args.header {
+        std::fs::write(
+            h,
+            fxbody::fmu::header::c_header(&p.table, &p.options, &p.guid),
+        )
+        .map_err(|e| format!("--header {}: cannot write: {e}", h.display()))?;
+    }
     let size = std::fs::metadata(&args.output)
         .map(|m| m.len())
         .unwrap_or(0);
     println!(
-        "{}: model {} (GUID {}), {} exposed nodes, {} variables, {:.1} MB",
+        "{}: model {} (GUID {}), {}, {}, {:.1} MB",
         args.output.display(),
         p.options.model_identifier(),
         p.guid,
-        p.scene.nodes.len(),
-        p.table.vars.len(),
+        count(p.scene.nodes.len(), "exposed node"),
+        count(p.table.vars.len(), "variable"),
         size as f64 / 1e6
     );
     Ok(())

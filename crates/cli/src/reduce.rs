@@ -7,6 +7,7 @@ use std::fmt::Write;
 use std::path::PathBuf;
 
 use fxbody::fxb;
+use fxbody::num::count;
 use fxbody::reduce::{node_indices, select_nodes, to_fxb, truncate};
 
 /// Arguments of `reduce`.
@@ -18,8 +19,8 @@ pub struct ReduceArgs {
     #[arg(short, long)]
     pub output: PathBuf,
     /// Node IDs to keep, comma-separated (default: all).
-    #[arg(long, value_delimiter = ',')]
-    pub nodes: Option<Vec<i64>>,
+    #[arg(long, value_parser = crate::nodes::id_list)]
+    pub nodes: Option<crate::nodes::NodeIds>,
     /// Keep the modes of (K_L, m_L) up to this frequency, Hz (default: all).
     #[arg(long)]
     pub fmax: Option<f64>,
@@ -30,7 +31,7 @@ pub fn run(args: &ReduceArgs) -> Result<(), String> {
     let body = fxbody::body::load(&args.file).map_err(|e| e.to_string())?;
     let input_nodes = body.nnodes();
     let nodes = match &args.nodes {
-        Some(ids) => node_indices(&body, ids).map_err(|e| format!("--nodes: {e}"))?,
+        Some(ids) => node_indices(&body, &ids.0).map_err(|e| format!("--nodes: {e}"))?,
         None => (0..body.nnodes()).collect(),
     };
     let mut o = String::new();
@@ -55,13 +56,13 @@ pub fn run(args: &ReduceArgs) -> Result<(), String> {
         .map_err(|e| format!("{}: cannot write: {e}", args.output.display()))?;
     let _ = writeln!(
         o,
-        "{}: {} nodes, {} local modes, Freq {:.9e} Hz, {} bytes (input {} nodes)",
+        "{}: {}, {}, Freq {:.9e} Hz, {} bytes (input {})",
         args.output.display(),
-        reduced.nnodes(),
-        reduced.nl(),
+        count(reduced.nnodes(), "node"),
+        count(reduced.nl(), "local mode"),
         reduced.freq_file,
         text.len(),
-        input_nodes
+        count(input_nodes, "node")
     );
     if let Some(r) = residual
         && r.dropped > 0

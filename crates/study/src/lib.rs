@@ -29,8 +29,9 @@ pub struct StudyArgs {
     /// Folder with the shipped fixtures.
     #[arg(long, default_value = "fixtures")]
     pub fixtures: PathBuf,
-    /// Output folder (created if needed).
-    #[arg(long, default_value = "docs")]
+    /// Output folder (created if needed). The default is a folder of its own in the
+    /// current directory; `--out docs` refreshes the repository's committed results.
+    #[arg(long, default_value = "study-out")]
     pub out: PathBuf,
     /// A few seconds' version: three steps per scene, short runs and timings (for the
     /// smoke test).

@@ -1,3 +1,4 @@
 //! The validated body (`Body::from_fxb`): its checks and what it computes.
 
+mod mass_props;
 mod validation;

@@ -46,7 +46,9 @@ fn numbers(v: &str) -> Vec<f64> {
         .collect()
 }
 
-const KEYS: [&str; 14] = [
+// Issue 15 added the Rayleigh coefficients and the free-body mass properties (null
+// when absent) before "warnings".
+const KEYS: [&str; 18] = [
     "nbmod",
     "nbstat",
     "nbnod",
@@ -60,6 +62,10 @@ const KEYS: [&str; 14] = [
     "frequencies_hz",
     "dt_stab_s",
     "mass",
+    "rayleigh_alpha",
+    "rayleigh_beta",
+    "cog_from_l0",
+    "inertia_at_cog",
     "warnings",
 ];
 

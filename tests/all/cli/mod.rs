@@ -1,5 +1,7 @@
 //! The `fxbody` command run end to end as a user runs it.
 
+mod first_use;
 mod info;
 mod inputs;
+mod pack_extras;
 mod progress;

@@ -24,9 +24,8 @@ fn cantilever_tip_share_of_the_first_bending_mode() {
         .unwrap();
     assert!(run.status.success());
     let text = String::from_utf8(run.stdout).unwrap();
-    // Two JSON objects: the file summary, then the modes.
-    let second = &text[text.find("}\n{").unwrap() + 2..];
-    let v: Value = serde_json::from_str(second).unwrap();
+    // One JSON object (issue 15): the file summary with the modes under "modes".
+    let v: Value = serde_json::from_str(&text).unwrap();
     let share = v["modes"][1]["cumulative_static_share"]["121:Y"]
         .as_f64()
         .unwrap();

@@ -97,6 +97,14 @@ fn reference(path: &Path) -> Result<Reference, String> {
 /// Run `demo`.
 pub fn run(args: &DemoArgs) -> Result<(), String> {
     let body = args.fixtures.join("cantilever.fxb");
+    if !body.is_file() {
+        return Err(format!(
+            "{}: not found: demo runs on the fixtures shipped in the repository's fixtures/ folder \
+             (cantilever.fxb, cantilever.nodes.rad, cantilever.ref.json); run it from the repository \
+             root or give --fixtures PATH/TO/fixtures",
+            body.display()
+        ));
+    }
     let r = reference(&args.fixtures.join("cantilever.ref.json"))?;
     std::fs::create_dir_all(&args.out)
         .map_err(|e| format!("{}: cannot create: {e}", args.out.display()))?;

@@ -1,0 +1,78 @@
+//! `pack --header FILE.h`: a C header for one packed FMU, so a C master names the
+//! variables instead of reading value references out of modelDescription.xml by hand.
+//! It holds the GUID and model identifier as strings, the value reference of every
+//! variable as a named constant (`<ID>_VR_<NAME>`, with its causality, unit and
+//! description in a comment), the method values, and the variable count. It needs no
+//! other header; the FMI types come from the FMI headers or include/fxbody.h.
+
+use std::fmt::Write;
+
+use super::options::SceneOptions;
+use super::vars::{Causality, VarTable, method_name};
+use super::xml::unit;
+
+/// A name as the upper-case C identifier part it becomes: every character outside
+/// `[A-Za-z0-9]` becomes `_` (`node_121.fy` -> `NODE_121_FY`).
+pub fn c_name(name: &str) -> String {
+    name.chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() {
+                c.to_ascii_uppercase()
+            } else {
+                '_'
+            }
+        })
+        .collect()
+}
+
+/// The header text for the FMU with variables `table`, options `opts` and `guid`.
+pub fn c_header(table: &VarTable, opts: &SceneOptions, guid: &str) -> String {
+    let id = opts.model_identifier();
+    let p = c_name(&id);
+    let mut h = String::new();
+    let _ = writeln!(
+        h,
+        "/* {id}.h: value references of the FMU '{}' (modelIdentifier {id}), written by fxbody pack {}.\n \
+         * Valid for the FMU of this GUID only: pack again, write the header again. */",
+        opts.name.replace("*/", "* /"),
+        env!("CARGO_PKG_VERSION")
+    );
+    let _ = writeln!(
+        h,
+        "#ifndef FXBODY_MODEL_{p}_H\n#define FXBODY_MODEL_{p}_H\n"
+    );
+    let _ = writeln!(h, "#define {p}_GUID \"{guid}\"");
+    let _ = writeln!(h, "#define {p}_MODEL_IDENTIFIER \"{id}\"");
+    let _ = writeln!(h, "#define {p}_NUMBER_OF_VARIABLES {}u\n", table.vars.len());
+    h.push_str("/* Values of the Integer parameter `method`. */\n");
+    for &m in table.methods() {
+        let _ = writeln!(
+            h,
+            "#define {p}_METHOD_{} {}",
+            method_name(m).to_ascii_uppercase(),
+            m as i32
+        );
+    }
+    h.push_str("\n/* Value references (fmi2ValueReference). */\n");
+    for v in &table.vars {
+        let causality = match v.causality {
+            Causality::Parameter => "parameter",
+            Causality::Input => "input",
+            Causality::Output => "output",
+        };
+        let u = opts
+            .units
+            .and_then(|u| unit(v.quantity, u))
+            .map_or(String::new(), |u| format!(" [{}]", u.0));
+        let _ = writeln!(
+            h,
+            "#define {p}_VR_{} {}u /* {} {causality}{u}: {} */",
+            c_name(&v.name),
+            v.vr,
+            v.name,
+            v.description.replace("*/", "* /")
+        );
+    }
+    let _ = writeln!(h, "\n#endif /* FXBODY_MODEL_{p}_H */");
+    h
+}

@@ -1,0 +1,203 @@
+//! Issue 15, "what a new user also tripped over", end to end with the built binary:
+//! `info --json --nodes` is one JSON object, `info --nodes 999` fails before printing,
+//! `info --json` has the Rayleigh coefficients and (free bodies) the mass properties,
+//! free-body effective masses print 0 instead of round-off, `--nodes` accepts blanks,
+//! counts take the singular, `demo` outside the repository says where the fixtures are
+//! and `study` does not write into docs/ by default.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use crate::common::{fixture, fixture_reference, nums, root};
+
+fn run_in(dir: &Path, args: &[&str]) -> Output {
+    Command::new(fxbody_host::workspace_binary("fxbody"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("run fxbody")
+}
+
+fn run(args: &[&str]) -> Output {
+    run_in(&root(), args)
+}
+
+fn ok(o: &Output) -> String {
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    String::from_utf8(o.stdout.clone()).unwrap()
+}
+
+fn scratch(tag: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("fxb_cli_first_{tag}_{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+#[test]
+fn info_json_with_nodes_is_one_object_with_mass_properties() {
+    let out = ok(&run(&[
+        "info",
+        "--json",
+        "--nodes",
+        "521, 501",
+        "fixtures/freefree.fxb",
+    ]));
+    let v: serde_json::Value = serde_json::from_str(&out).expect("one JSON document");
+    let modes = v["modes"].as_array().unwrap();
+    assert_eq!(modes.len(), 10);
+    assert!(modes[0]["cumulative_static_share"]["501:Y"].is_number());
+    // Free-free modes carry no net translation: exactly 0, not round-off.
+    for m in modes {
+        assert_eq!(nums(&m["effective_mass"]), vec![0.0, 0.0, 0.0], "{m}");
+    }
+    // Centre of gravity: L0 + offset against the FE model's centre of mass; inertia
+    // symmetric with the rod's m L^2 / 12 as its largest value (tolerances as in
+    // tests/all/body/mass_props.rs).
+    let r = fixture_reference("freefree");
+    let (c, x0) = (nums(&v["cog_from_l0"]), nums(&r["frame"]["x_L0"]));
+    let com = nums(&r["center_of_mass"]);
+    for k in 0..3 {
+        assert!((x0[k] + c[k] - com[k]).abs() < 1e-9, "{c:?}");
+    }
+    let inertia: Vec<Vec<f64>> = v["inertia_at_cog"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(nums)
+        .collect();
+    let trace: f64 = (0..3).map(|k| inertia[k][k]).sum();
+    let m = r["total_mass"].as_f64().unwrap();
+    let axial = r["model"]["rho"].as_f64().unwrap() * r["model"]["section"]["Ip"].as_f64().unwrap();
+    // Two transverse axes at m L^2/12 (L = 1 m) plus the axial rho Ip L.
+    let expect = 2.0 * m / 12.0 + axial;
+    assert!(
+        (trace - expect).abs() < 2e-3 * expect,
+        "{trace} vs {expect}"
+    );
+    assert!(v["rayleigh_alpha"].is_null() && v["rayleigh_beta"].is_null());
+}
+
+#[test]
+fn info_json_has_the_rayleigh_coefficients() {
+    let v: serde_json::Value = serde_json::from_str(&ok(&run(&[
+        "info",
+        "--json",
+        "fixtures/cantilever_damped.fxb",
+    ])))
+    .unwrap();
+    let r = fixture_reference("cantilever_damped");
+    assert_eq!(v["rayleigh_alpha"], r["damping"]["alpha"]);
+    assert_eq!(v["rayleigh_beta"], r["damping"]["beta"]);
+    assert!(v["cog_from_l0"].is_null(), "a blocked body has no M_R");
+}
+
+#[test]
+fn info_with_an_unknown_node_fails_before_printing() {
+    let o = run(&["info", "--nodes", "999", "fixtures/cantilever.fxb"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        o.stdout.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&o.stdout)
+    );
+    assert!(String::from_utf8_lossy(&o.stderr).contains("999"));
+}
+
+#[test]
+fn text_effective_masses_are_zero_and_the_threshold_is_stated() {
+    let out = ok(&run(&["info", "--nodes", "521", "fixtures/freefree.fxb"]));
+    assert!(out.contains("below 1e-12 of the total mass"), "{out}");
+    let row1 = out
+        .lines()
+        .find(|l| l.trim_start().starts_with("1 "))
+        .unwrap();
+    let last3: Vec<f64> = row1
+        .split_whitespace()
+        .rev()
+        .take(3)
+        .map(|s| s.parse().unwrap())
+        .collect();
+    assert_eq!(last3, vec![0.0, 0.0, 0.0], "{row1}");
+}
+
+#[test]
+fn pack_takes_blanks_in_nodes_and_says_one_node() {
+    let d = scratch("nodes");
+    let fmu = d.join("c.fmu");
+    let out = ok(&run(&[
+        "pack",
+        "fixtures/cantilever.fxb",
+        "--coords",
+        "fixtures/cantilever.nodes.rad",
+        "--nodes",
+        "121, 111",
+        "-o",
+        fmu.to_str().unwrap(),
+    ]));
+    assert!(out.contains("2 exposed nodes"), "{out}");
+    let out = ok(&run(&[
+        "pack",
+        "fixtures/cantilever.fxb",
+        "--coords",
+        "fixtures/cantilever.nodes.rad",
+        "--nodes",
+        " 121 ",
+        "-o",
+        fmu.to_str().unwrap(),
+    ]));
+    assert!(out.contains("1 exposed node,"), "{out}");
+    let files = fxbody_host::zip::read(&std::fs::read(&fmu).unwrap()).unwrap();
+    let xml = String::from_utf8(
+        files
+            .iter()
+            .find(|f| f.0 == "modelDescription.xml")
+            .unwrap()
+            .1
+            .clone(),
+    )
+    .unwrap();
+    assert!(xml.contains("1 exposed node)"), "{xml}");
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+#[test]
+fn demo_outside_the_repository_says_where_the_fixtures_are() {
+    let d = scratch("demo");
+    let o = run_in(&d, &["demo"]);
+    assert_eq!(o.status.code(), Some(2));
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        e.contains("fixtures/cantilever.fxb: not found") && e.contains("--fixtures"),
+        "{e}"
+    );
+    assert!(!d.join("out").exists(), "nothing written on failure");
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+#[test]
+fn study_writes_beside_the_user_not_into_docs() {
+    let d = scratch("study");
+    let docs_spin = root().join("docs/spin.csv");
+    let before = std::fs::metadata(&docs_spin)
+        .and_then(|m| m.modified())
+        .ok();
+    let fixtures = fixture("");
+    let o = run_in(
+        &d,
+        &[
+            "study",
+            "--quick",
+            "--spin-only",
+            "--fixtures",
+            fixtures.to_str().unwrap(),
+        ],
+    );
+    ok(&o);
+    assert!(d.join("study-out/spin.csv").is_file());
+    let after = std::fs::metadata(&docs_spin)
+        .and_then(|m| m.modified())
+        .ok();
+    assert_eq!(before, after, "docs/spin.csv untouched");
+    let _ = std::fs::remove_dir_all(&d);
+}
