@@ -280,6 +280,7 @@ impl Snapshot {
                     1 => Method::Explicit,
                     2 => Method::Implicit,
                     3 => Method::Exact,
+                    4 => Method::Split,
                     _ => return Err(SnapshotError::UnknownMethod(m)),
                 };
                 Some(State {

@@ -297,7 +297,7 @@ impl VarTable {
     /// Methods a scene offers: exact only for blocked bodies.
     pub fn methods(&self) -> &'static [Method] {
         if self.free {
-            &[Method::Explicit, Method::Implicit]
+            &[Method::Explicit, Method::Implicit, Method::Split]
         } else {
             &[Method::Explicit, Method::Implicit, Method::Exact]
         }
@@ -317,6 +317,7 @@ pub fn method_name(m: Method) -> &'static str {
         Method::Explicit => "explicit",
         Method::Implicit => "implicit",
         Method::Exact => "exact",
+        Method::Split => "split",
     }
 }
 
@@ -326,6 +327,7 @@ pub fn method_from_value(v: i32) -> Option<Method> {
         1 => Some(Method::Explicit),
         2 => Some(Method::Implicit),
         3 => Some(Method::Exact),
+        4 => Some(Method::Split),
         _ => None,
     }
 }

@@ -189,6 +189,9 @@ pub fn model_description(
             }
             crate::solver::Method::Implicit => "generalised-alpha (Chung-Hulbert), any step",
             crate::solver::Method::Exact => "exact modal stepping (blocked bodies)",
+            crate::solver::Method::Split => {
+                "Strang splitting: modes exact, frame second order on the rotation group, any step (free bodies)"
+            }
         };
         let _ = writeln!(
             x,

@@ -5,4 +5,5 @@ mod explicit;
 mod fe_reference;
 mod implicit;
 mod radioss_differences;
+mod split;
 mod validity;
