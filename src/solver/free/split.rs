@@ -3,30 +3,27 @@
 //!
 //! The body's equations (section 3) are written on the constraint manifold itself: the
 //! frame is a rigid body `(X, P)` (position of L0, rotation) moving with `(V, omega)`,
-//! so the frame points are `G(P) (V, omega)` and the constraint forces drop out
-//! (`G^T C^T = 0`). Its state is the momenta about the global origin (linear momentum
-//! and angular momentum of `M6 (V, omega) + B^T v_L`, `M6 = G^T M_R G`, `B = M_C^T G`).
-//! The local modes are taken in the modal basis of `(K_L, m_eff)`,
-//! `m_eff = diag(m_L) - B M6^-1 B^T` (the local mass with the rigid motion they drag
-//! condensed out; `diag(m_L)` itself when the modes are free-free, `B = 0`).
+//! so the frame points move with `G(P) (V, omega)` and the constraint forces drop out
+//! (`G^T C^T = 0`): `M6 a6 + B^T a_L = Q6`, `B a6 + m_L a_L + ... = S_L` with
+//! `M6 = G^T M_R G`, `B = M_C^T G`, `Q6 = G^T (F_R + G_R - K_C alpha - M_R c)` and `c`
+//! the centripetal accelerations of the frame points. The local modes are taken in the
+//! modal basis of `(K_L, m_eff)`, `m_eff = diag(m_L) - B M6^-1 B^T` (the local mass with
+//! the rigid motion they drag condensed out; `diag(m_L)` itself when the modes are
+//! free-free, `B = 0`).
 //!
 //! One internal step of size `dt` is the symmetric (Strang) composition
 //! `L(dt/2) R(dt) L(dt/2)`:
-//! - `L`: the frame held, the momenta held; every mode advanced exactly (the blocked
-//!   exact method's transition, `expm::mode_coefficients`) under the nodal loads held or
-//!   linear over the sub-step, gravity, the frame's centrifugal load `-M_C^T c` and the
-//!   inertial load of the rigid acceleration `-B M6^-1 Q6`; the rigid velocity follows
-//!   from the momenta, so the recoil of the modes on the frame is exact. With `B != 0`
-//!   the frame's spin in these loads is taken at the sub-step's middle (one predictor
-//!   pass).
-//! - `R`: the modes held; a half kick of the momenta by the external wrench, the
-//!   implicit-midpoint drift of `(X, P)` on the rotation group (`P <- exp(dt [omega]) P`:
-//!   a rotation to round-off by construction), a half kick with the wrench at the new
-//!   frame and time.
+//! - `L`: the frame held; every mode advanced exactly (the blocked exact method's
+//!   transition, `expm::mode_coefficients`) under the nodal loads held or linear over
+//!   the sub-step, gravity, the frame's centrifugal load `-M_C^T c` and the inertial load
+//!   of the rigid acceleration `-B M6^-1 Q6`; the frame's velocity takes the modes'
+//!   recoil `-M6^-1 B^T dv_L` exactly. With `B != 0` the frame's spin in these loads is
+//!   taken at the sub-step's middle (one predictor pass).
+//! - `R`: the modes held; `M6 a6 = Q6` by the implicit midpoint on the rotation group
+//!   (`P <- exp(dt [omega_mid]) P`: a rotation to round-off by construction).
 //!
-//! Each part is solved exactly (L) or by a symmetric second-order scheme (R), so the
-//! composition is symmetric and second order; with no wrench the momenta are constant
-//! bit for bit. A communication step is cut into equal internal steps turning at most
+//! `L` is exact and `R` symmetric and second order, so the composition is symmetric and
+//! second order. A communication step is cut into equal internal steps turning at most
 //! [`ROT_STEP`] rad each.
 
 mod rigid;
@@ -62,8 +59,8 @@ pub struct Split {
     p: Matrix3<f64>,
     /// Rotational DOFs 13..15 (Irot = 1): the integral of omega.
     qrot: Vector3<f64>,
-    /// Momenta about the global origin: linear, then angular.
-    h: Vector6<f64>,
+    /// Frame velocity `(V, omega)`: L0's velocity and the angular velocity (global).
+    v6: Vector6<f64>,
     /// Modal amplitudes and velocities in the basis of `(K_L, m_eff)`.
     y: DVector<f64>,
     yd: DVector<f64>,
@@ -85,9 +82,6 @@ pub struct Split {
 /// What depends on the body only.
 #[derive(Debug, Clone)]
 struct Consts {
-    m6b_inv: Matrix6<f64>,
-    /// `B` in body components (`nl x 6`).
-    bb: DMatrix<f64>,
     /// Modal basis: `alpha = S y`, `S^T m_eff S = I`, `S^T K_L S = diag(w^2)`.
     s: DMatrix<f64>,
     omega: Vec<f64>,
@@ -111,6 +105,8 @@ struct Work {
     vl: DVector<f64>,
     sy: DVector<f64>,
     syd: DVector<f64>,
+    /// `K_C,kl alpha` for the nine sub-blocks (`nr` each), for the frame's step.
+    kca: Vec<DVector<f64>>,
 }
 
 impl Split {
@@ -126,31 +122,26 @@ impl Split {
             (Some(u), Some(v_t)) => u * v_t,
             _ => m.p0,
         };
-        let g0 = rigid::g_matrix(&p0, nr).rows(0, nr).into_owned();
-        let m6g = g0.transpose() * &m.m_r * &g0;
-        let r0 = rigid::r6(&p0);
-        let m6b: Matrix6<f64> = r0.transpose() * Matrix6::from_iterator(m6g.iter().copied()) * r0;
-        let m6b = (m6b + m6b.transpose()) * 0.5;
-        let eig = m6b.symmetric_eigen().eigenvalues;
+        let m6 = rigid::rigid_mass(&m.m_r, &p0);
+        let eig = m6.symmetric_eigen().eigenvalues;
         let (lo, hi) = (eig.min(), eig.max());
         let ratio = if hi > 0.0 { lo / hi } else { 0.0 };
         if ratio.is_nan() || ratio <= SINGULAR_RATIO {
             return Err(singular_error(ratio.max(0.0), 0.0, 0.0));
         }
-        let m6b_inv = m6b
+        let m6inv = m6
             .try_inverse()
             .ok_or_else(|| singular_error(0.0, 0.0, 0.0))?;
         let mut mc = DMatrix::zeros(nr, nl);
         let mut kc = DMatrix::zeros(nr, nl);
         m.frame_matrices(&p0, &mut mc, &mut kc);
-        let bg = mc.transpose() * &g0;
-        let r0d = DMatrix::from_iterator(6, 6, r0.iter().copied());
-        let bb = bg * r0d;
-        let minv = DMatrix::from_iterator(6, 6, m6b_inv.iter().copied());
-        let m_eff = DMatrix::from_diagonal(&m.m_l) - &bb * minv * bb.transpose();
+        let g = rigid::g_matrix(&p0, nr);
+        let bmat: DMatrix<f64> = DMatrix::from_fn(nl, 6, |j, k| (0..nr).map(|i| mc[(i, j)] * g[(i, k)]).sum());
+        let minv = DMatrix::from_iterator(6, 6, m6inv.iter().copied());
+        let m_eff: DMatrix<f64> =
+            DMatrix::from_diagonal(&m.m_l) - &bmat * minv * bmat.transpose();
         let m_eff = (&m_eff + m_eff.transpose()) * 0.5;
-        let scale_b = bb.amax();
-        let coupled = scale_b > 1e-9 * m.m_l.amax().max(m6b.amax());
+        let coupled = bmat.amax() > 1e-9 * m.m_l.amax().max(m6.amax());
         let (s, lam) = if nl == 0 {
             (DMatrix::zeros(0, 0), Vec::new())
         } else {
@@ -160,16 +151,12 @@ impl Split {
         let omega: Vec<f64> = w2.iter().map(|x| x.sqrt()).collect();
         let damp = w2.iter().map(|&x| m.ray_a + m.ray_b * x).collect();
         let c = Consts {
-            m6b_inv,
-            bb,
             s,
             omega,
             w2,
             damp,
             coupled,
         };
-        // Initial momenta of the body velocity (modes at rest), about the origin.
-        let r = rigid::r6(&p0);
         let v6 = Vector6::new(
             scene.v0[0],
             scene.v0[1],
@@ -178,8 +165,6 @@ impl Split {
             scene.w0[1],
             scene.w0[2],
         );
-        let mu = r * (m6b * (r.transpose() * v6));
-        let h = to_origin(&mu, &m.origin0);
         let z = DVector::zeros(nl);
         let w = Work {
             mc,
@@ -194,6 +179,7 @@ impl Split {
             vl: z.clone(),
             sy: z.clone(),
             syd: z.clone(),
+            kca: vec![DVector::zeros(nr); 9],
         };
         let mut s = Split {
             loads: Loads::new(6 * m.nexp),
@@ -201,7 +187,7 @@ impl Split {
             d: Vector3::zeros(),
             p: p0,
             qrot: Vector3::zeros(),
-            h,
+            v6,
             y: z.clone(),
             yd: z,
             c,
@@ -221,7 +207,7 @@ impl Split {
             m,
         };
         s.backup.data.reserve(s.state_len());
-        s.refresh();
+        s.refresh()?;
         Ok(s)
     }
 
@@ -235,57 +221,39 @@ impl Split {
         d.extend_from_slice(self.d.as_slice());
         d.extend_from_slice(self.p.as_slice());
         d.extend_from_slice(self.qrot.as_slice());
-        d.extend_from_slice(self.h.as_slice());
+        d.extend_from_slice(self.v6.as_slice());
         d.extend_from_slice(self.y.as_slice());
         d.extend_from_slice(self.yd.as_slice());
         self.loads.save(d);
     }
 
-    /// Absolute position of L0.
-    fn x(&self) -> Vector3<f64> {
-        self.m.origin0 + self.d
-    }
-
-    /// Modal velocities `v_L = S y'` into `w.vl` and `B^T v_L` in body components.
-    fn modes_share(&mut self) -> Vector6<f64> {
-        self.w.vl.gemv(1.0, &self.c.s, &self.yd, 0.0);
-        let mut bv = Vector6::zeros();
-        for k in 0..6 {
-            bv[k] = self.c.bb.column(k).dot(&self.w.vl);
-        }
-        bv
-    }
-
-    /// Rigid velocity `(V, omega)` (global) of the current state.
-    fn v6(&mut self) -> Vector6<f64> {
-        let bv = self.modes_share();
-        let x = self.x();
-        rigid::velocity(&self.c.m6b_inv, &self.p, &rigid::about(&self.h, &x), &bv)
-    }
-
     /// Spin rate `|omega|` (rad/s).
-    fn spin_rate(&mut self) -> f64 {
-        let v = self.v6();
-        Vector3::new(v[3], v[4], v[5]).norm()
+    fn spin_rate(&self) -> f64 {
+        Vector3::new(self.v6[3], self.v6[4], self.v6[5]).norm()
+    }
+
+    /// `M6(P)^-1` for the current frame.
+    fn m6_inverse(&self, p: &Matrix3<f64>) -> Result<Matrix6<f64>, SolverError> {
+        rigid::rigid_mass(&self.m.m_r, p)
+            .try_inverse()
+            .ok_or_else(|| singular_error(0.0, 0.0, self.spin_rate()))
     }
 
     /// Loads on the local modes at time `t` with the frame's velocity `v6`, into `out`
-    /// (local coordinates): `F_L + G_L - M_C^T c - B M6^-1 Q6`, with
-    /// `Q6 = G^T (F_R + G_R - K_C alpha - M_R c)` (returned, global). `w.mc`, `w.kc`
-    /// must hold the current frame's matrices and `w.alpha` the local coordinates.
-    fn local_loads(&mut self, t: f64, v6: &Vector6<f64>, out: Out) -> Vector6<f64> {
+    /// (local coordinates): `F_L + G_L - M_C^T (c + G M6^-1 Q6)`, with
+    /// `Q6 = G^T (F_R + G_R - K_C alpha - M_R c)` (returned). `w.mc`, `w.kc` must hold
+    /// the current frame's matrices and `w.alpha` the local coordinates.
+    fn local_loads(
+        &mut self,
+        t: f64,
+        v6: &Vector6<f64>,
+        m6inv: &Matrix6<f64>,
+        out: Out,
+    ) -> Vector6<f64> {
         let (m, w) = (&self.m, &mut self.w);
         let nr = m.nr;
         m.project_loads(&self.loads, t, &self.p, &mut w.f_r, &mut w.f_l);
-        let om = Vector3::new(v6[3], v6[4], v6[5]);
-        // c: centripetal accelerations of the frame points, omega x (omega x e_j).
-        let mut cvec = [0.0; 15];
-        for j in 1..4 {
-            let e = self.p.column(j - 1).into_owned();
-            let cj = om.cross(&om.cross(&e));
-            let o = point_offset(j);
-            cvec[o..o + 3].copy_from_slice(cj.as_slice());
-        }
+        let cvec = centripetal(&self.p, v6);
         // Rigid generalised force F_R + G_R - K_C alpha - M_R c (in w.f_r).
         for i in 0..nr {
             let mut s = w.f_r[i] + m.g_r[i] - row_dot(&w.kc, i, &w.alpha);
@@ -299,24 +267,20 @@ impl Split {
         for k in 0..6 {
             q6[k] = (0..nr).map(|i| g[(i, k)] * w.f_r[i]).sum();
         }
+        // Frame-point accelerations c + G a6 with a6 = M6^-1 Q6, the modes' inertial load.
+        let ar = g * (m6inv * q6);
         let f = match out {
             Out::A => &mut w.fa,
             Out::B => &mut w.fb,
         };
         f.copy_from(&w.f_l);
-        // + M_C^T (s - c): gravity and the centrifugal load.
         for j in 0..m.nl {
             let col = w.mc.column(j);
             let mut s = 0.0;
             for i in 0..nr {
-                s += col[i] * (m.s_grav[i] - cvec[i]);
+                s += col[i] * (m.s_grav[i] - cvec[i] - ar[i]);
             }
             f[j] += s;
-        }
-        if self.c.coupled {
-            let r = rigid::r6(&self.p);
-            let a6b = self.c.m6b_inv * (r.transpose() * q6);
-            f.gemv(-1.0, &self.c.bb, &a6b, 1.0);
         }
         q6
     }
@@ -346,9 +310,10 @@ impl Split {
         Ok(slot)
     }
 
-    /// `L(dt)` from time `t`: the frame and the momenta held, the modes exact.
+    /// `L(dt)` from time `t`: the frame held, the modes exact, the frame's velocity
+    /// taking their recoil.
     fn flow_local(&mut self, dt: f64, t: f64) -> Result<(), SolverError> {
-        let nl = self.m.nl;
+        let (nr, nl) = (self.m.nr, self.m.nl);
         if nl == 0 {
             return Ok(());
         }
@@ -356,7 +321,9 @@ impl Split {
         self.m
             .frame_matrices(&self.p, &mut self.w.mc, &mut self.w.kc);
         self.w.alpha.gemv(1.0, &self.c.s, &self.y, 0.0);
-        let v_start = self.v6();
+        let m6inv = self.m6_inverse(&self.p)?;
+        let g = rigid::g_matrix(&self.p, nr);
+        let v_start = self.v6;
         let rates = self.loads.rates.iter().any(|&r| r != 0.0);
         self.w.sy.copy_from(&self.y);
         self.w.syd.copy_from(&self.yd);
@@ -365,16 +332,15 @@ impl Split {
         for pass in 0..passes {
             if pass == 1 {
                 // The frame's spin in the loads at the middle of the sub-step.
-                let v_end = self.v6();
-                v_use = (v_start + v_end) * 0.5;
+                v_use = (v_start + self.v6) * 0.5;
                 self.y.copy_from(&self.w.sy);
                 self.yd.copy_from(&self.w.syd);
             }
-            self.local_loads(t, &v_use, Out::A);
+            self.local_loads(t, &v_use, &m6inv, Out::A);
             let w = &mut self.w;
             w.g0.gemv_tr(1.0, &self.c.s, &w.fa, 0.0);
             if rates {
-                self.local_loads(t + dt, &v_use, Out::B);
+                self.local_loads(t + dt, &v_use, &m6inv, Out::B);
                 let w = &mut self.w;
                 w.fb -= &w.fa;
                 w.g1.gemv_tr(1.0 / dt, &self.c.s, &w.fb, 0.0);
@@ -388,50 +354,66 @@ impl Split {
                 self.y.as_mut_slice(),
                 self.yd.as_mut_slice(),
             );
+            if self.c.coupled {
+                // Recoil: M6 dv6 = -G^T M_C dv_L.
+                let w = &mut self.w;
+                w.g0.copy_from(&self.yd);
+                w.g0 -= &w.syd;
+                w.vl.gemv(1.0, &self.c.s, &w.g0, 0.0);
+                w.f_r.gemv(1.0, &w.mc, &w.vl, 0.0);
+                let mut q = Vector6::zeros();
+                for k in 0..6 {
+                    q[k] = (0..nr).map(|i| g[(i, k)] * w.f_r[i]).sum();
+                }
+                self.v6 = v_start - m6inv * q;
+            }
         }
         Ok(())
     }
 
-    /// External wrench about the global origin at time `t` for the current frame:
-    /// `G^T (F_R + G_R - K_C alpha)` moved from L0 to the origin.
-    fn wrench(&mut self, t: f64) -> Vector6<f64> {
+    /// `R(dt)` from time `t`: the modes held, `M6 a6 = Q6` by the implicit midpoint on
+    /// the rotation group with the loads of the middle of the step.
+    fn flow_rigid(&mut self, dt: f64, t: f64) -> Result<(), SolverError> {
+        let v0 = self.v6;
         let (m, w) = (&self.m, &mut self.w);
         let nr = m.nr;
-        m.project_loads(&self.loads, t, &self.p, &mut w.f_r, &mut w.f_l);
-        m.frame_matrices(&self.p, &mut w.mc, &mut w.kc);
-        w.alpha.gemv(1.0, &self.c.s, &self.y, 0.0);
-        let g = rigid::g_matrix(&self.p, nr);
-        let mut q = Vector6::zeros();
+        m.project_loads(&self.loads, t + 0.5 * dt, &self.p, &mut w.f_r, &mut w.f_l);
         for i in 0..nr {
-            let fi = w.f_r[i] + m.g_r[i] - row_dot(&w.kc, i, &w.alpha);
-            for k in 0..6 {
-                q[k] += g[(i, k)] * fi;
-            }
+            w.f_r[i] += m.g_r[i];
         }
-        to_origin(&q, &(m.origin0 + self.d))
-    }
-
-    /// `R(dt)` from time `t`: kick, midpoint drift on the rotation group, kick.
-    fn flow_rigid(&mut self, dt: f64, t: f64) -> Result<(), SolverError> {
-        let w0 = self.wrench(t);
-        self.h += w0 * (0.5 * dt);
-        let bv = self.modes_share();
-        let mut v = self.v6();
-        let mut x = self.x();
-        let spin = Vector3::new(v[3], v[4], v[5]).norm();
-        if rigid::drift(
-            &self.c.m6b_inv,
-            &self.h,
-            &bv,
-            dt,
-            &mut x,
-            &mut self.p,
-            &mut v,
-        )
-        .is_none()
-        {
+        w.alpha.gemv(1.0, &self.c.s, &self.y, 0.0);
+        for (kca, kc) in w.kca.iter_mut().zip(&m.k_c_kl) {
+            kca.gemv(1.0, kc, &w.alpha, 0.0);
+        }
+        let (f_r, kca) = (&w.f_r, &w.kca);
+        let accel = |p: &Matrix3<f64>, v: &Vector6<f64>| -> Option<Vector6<f64>> {
+            let c = centripetal(p, v);
+            let g = rigid::g_matrix(p, nr);
+            let mut rhs = [0.0; 15];
+            for (i, r) in rhs[..nr].iter_mut().enumerate() {
+                // K_C(P) alpha = sum_kl P_lk K_C,kl alpha.
+                let mut s = f_r[i];
+                for k in 0..3 {
+                    for l in 0..3 {
+                        s -= p[(l, k)] * kca[3 * k + l][i];
+                    }
+                }
+                for (j, &cj) in c[..nr].iter().enumerate() {
+                    s -= m.m_r[(i, j)] * cj;
+                }
+                *r = s;
+            }
+            let mut q6 = Vector6::zeros();
+            for k in 0..6 {
+                q6[k] = (0..nr).map(|i| g[(i, k)] * rhs[i]).sum();
+            }
+            Some(rigid::rigid_mass(&m.m_r, p).try_inverse()? * q6)
+        };
+        let mut x = m.origin0 + self.d;
+        let spin = Vector3::new(v0[3], v0[4], v0[5]).norm();
+        if rigid::midpoint(dt, &mut x, &mut self.p, &mut self.v6, accel).is_none() {
             return Err(SolverError::Invalid(format!(
-                "the frame's midpoint rotation did not converge in {} passes over an internal \
+                "the frame's midpoint step did not converge in {} passes over an internal \
                  step of {} s at spin rate {} rad/s; the step was refused and the state is as \
                  before it: use smaller communication steps or smaller loads",
                 rigid::MAX_FIXED_POINT,
@@ -441,10 +423,9 @@ impl Split {
         }
         self.d = x - self.m.origin0;
         if self.m.irot {
-            self.qrot += Vector3::new(v[3], v[4], v[5]) * dt;
+            let vm = (v0 + self.v6) * 0.5;
+            self.qrot += Vector3::new(vm[3], vm[4], vm[5]) * dt;
         }
-        let w1 = self.wrench(t + dt);
-        self.h += w1 * (0.5 * dt);
         Ok(())
     }
 
@@ -471,7 +452,7 @@ impl Split {
         }
         self.t = t0 + h;
         let finite = self
-            .h
+            .v6
             .iter()
             .chain(self.d.iter())
             .chain(self.p.iter())
@@ -496,18 +477,18 @@ impl Split {
                 "use smaller communication steps",
             ));
         }
-        self.refresh();
-        Ok(())
+        self.refresh()
     }
 
     /// Recompute the outputs (coordinates, velocities, accelerations) of the current
     /// state: section 2's coordinates from the frame, the modes and the momenta.
-    fn refresh(&mut self) {
+    fn refresh(&mut self) -> Result<(), SolverError> {
         let (nr, nl) = (self.m.nr, self.m.nl);
-        let v6 = self.v6();
+        let v6 = self.v6;
         self.m
             .frame_matrices(&self.p, &mut self.w.mc, &mut self.w.kc);
         self.w.alpha.gemv(1.0, &self.c.s, &self.y, 0.0);
+        self.w.vl.gemv(1.0, &self.c.s, &self.yd, 0.0);
         // Coordinates: q_L0 = d, q_Lj = d + e_j - e_j0, rotational DOFs.
         for j in 0..4 {
             let o = point_offset(j);
@@ -529,35 +510,43 @@ impl Split {
         self.v.rows_mut(0, nr).copy_from(&vr.rows(0, nr));
         self.v.rows_mut(nr, nl).copy_from(&self.w.vl);
         // Accelerations from the equations of motion at this instant.
+        let m6inv = self.m6_inverse(&self.p)?;
         let t = self.t;
-        let q6 = self.local_loads(t, &v6, Out::A);
+        let q6 = self.local_loads(t, &v6, &m6inv, Out::A);
         let w = &mut self.w;
         w.g0.gemv_tr(1.0, &self.c.s, &w.fa, 0.0);
         for i in 0..nl {
             w.g0[i] -= self.c.damp[i] * self.yd[i] + self.c.w2[i] * self.y[i];
         }
         w.g1.gemv(1.0, &self.c.s, &w.g0, 0.0);
-        let r = rigid::r6(&self.p);
+        // a6 = M6^-1 (Q6 - G^T M_C a_L), a_R = G a6 + c.
+        w.f_r.gemv(1.0, &w.mc, &w.g1, 0.0);
         let mut ba = Vector6::zeros();
         for k in 0..6 {
-            ba[k] = self.c.bb.column(k).dot(&w.g1);
+            ba[k] = (0..nr).map(|i| g[(i, k)] * w.f_r[i]).sum();
         }
-        let a6 = r * (self.c.m6b_inv * (r.transpose() * q6 - ba));
-        let om = Vector3::new(v6[3], v6[4], v6[5]);
-        let ar = g * a6;
+        let ar = g * (m6inv * (q6 - ba));
+        let c = centripetal(&self.p, &v6);
         for i in 0..nr {
-            self.acc[i] = ar[i];
-        }
-        for j in 1..4 {
-            let e = self.p.column(j - 1).into_owned();
-            let cj = om.cross(&om.cross(&e));
-            let o = point_offset(j);
-            for c in 0..3 {
-                self.acc[o + c] += cj[c];
-            }
+            self.acc[i] = ar[i] + c[i];
         }
         self.acc.rows_mut(nr, nl).copy_from(&w.g1);
+        Ok(())
     }
+}
+
+/// Centripetal accelerations `omega x (omega x e_j)` of the frame points L1..L3 (zero
+/// for L0 and the rotational DOFs) for the velocity `v6` and frame `p`.
+fn centripetal(p: &Matrix3<f64>, v6: &Vector6<f64>) -> [f64; 15] {
+    let om = Vector3::new(v6[3], v6[4], v6[5]);
+    let mut c = [0.0; 15];
+    for j in 1..4 {
+        let e = p.column(j - 1).into_owned();
+        let cj = om.cross(&om.cross(&e));
+        let o = point_offset(j);
+        c[o..o + 3].copy_from_slice(cj.as_slice());
+    }
+    c
 }
 
 /// The basis `S` with `S^T m_eff S = I` and `S^T K_L S = diag(lambda)`, and lambda.
@@ -595,13 +584,6 @@ enum Out {
     B,
 }
 
-/// Momenta about L0 at `x` to momenta about the origin: `(p, L + x x p)`.
-fn to_origin(mu: &Vector6<f64>, x: &Vector3<f64>) -> Vector6<f64> {
-    let p = Vector3::new(mu[0], mu[1], mu[2]);
-    let l = Vector3::new(mu[3], mu[4], mu[5]) + x.cross(&p);
-    Vector6::new(p[0], p[1], p[2], l[0], l[1], l[2])
-}
-
 /// One exact step of every mode under the modal load `f0 + f1 s` (the blocked exact
 /// method's transition with the load taken from the start of the sub-step).
 fn advance(coef: &[f64], f0: &[f64], f1: &[f64], y: &mut [f64], v: &mut [f64]) {
@@ -626,8 +608,7 @@ impl Solver for Split {
     fn set_loads(&mut self, loads: &[f64]) -> Result<(), SolverError> {
         self.m.check_loads("loads", loads)?;
         self.loads.set(loads, self.t);
-        self.refresh();
-        Ok(())
+        self.refresh()
     }
 
     fn set_load_rates(&mut self, rates: &[f64]) -> Result<(), SolverError> {
@@ -705,12 +686,11 @@ impl Solver for Split {
         self.d.copy_from_slice(&d[1..4]);
         self.p.copy_from_slice(&d[4..13]);
         self.qrot.copy_from_slice(&d[13..16]);
-        self.h.copy_from_slice(&d[16..22]);
+        self.v6.copy_from_slice(&d[16..22]);
         self.y.copy_from_slice(&d[22..22 + nl]);
         self.yd.copy_from_slice(&d[22 + nl..22 + 2 * nl]);
         self.loads.load(&d[22 + 2 * nl..]);
-        self.refresh();
-        Ok(())
+        self.refresh()
     }
 }
 

@@ -1,8 +1,7 @@
-//! The rigid frame of the split method as a rigid body on the rotation group: the
-//! constant body-frame mass `M6b` of the motion `(V, omega)` (velocity of L0, angular
-//! velocity), the map `G(P)` from that motion to the frame-point coordinates of
-//! FORMULATION.md section 2, and the implicit-midpoint drift that moves the frame with
-//! the momenta held (FORMULATION.md section 11).
+//! The rigid frame of the split method on the rotation group: the map `G(P)` from the
+//! motion `(V, omega)` (velocity of L0, angular velocity) to the frame-point
+//! coordinates of FORMULATION.md section 2, the rigid mass `G^T M_R G` and the implicit
+//! midpoint step that moves the frame with the modes held (FORMULATION.md section 11).
 
 use nalgebra::{Matrix3, Matrix6, Rotation3, SMatrix, Vector3, Vector6};
 
@@ -39,80 +38,69 @@ pub(crate) fn g_matrix(p: &Matrix3<f64>, nr: usize) -> SMatrix<f64, 15, 6> {
     g
 }
 
-/// `diag(P, P)`: body components of a 6-vector `(V, omega)` to global ones.
-pub(crate) fn r6(p: &Matrix3<f64>) -> Matrix6<f64> {
-    let mut r = Matrix6::zeros();
-    r.fixed_view_mut::<3, 3>(0, 0).copy_from(p);
-    r.fixed_view_mut::<3, 3>(3, 3).copy_from(p);
-    r
-}
-
 /// Rotation by the rotation vector `phi` (Rodrigues): a rotation to round-off whatever
 /// `phi`.
 pub(crate) fn exp_so3(phi: &Vector3<f64>) -> Matrix3<f64> {
     Rotation3::new(*phi).into_inner()
 }
 
-/// Largest number of fixed-point passes of the midpoint drift. The pass is a
-/// contraction by about `|omega| dt / 2` times the inertia anisotropy; with the
-/// rotation per step bounded by `ROT_STEP` it converges to round-off in a handful.
+/// Largest number of fixed-point passes of the midpoint step. The pass is a
+/// contraction by about `|omega| dt / 2`; with the rotation per step bounded by
+/// `ROT_STEP` it converges to round-off in a handful.
 pub(crate) const MAX_FIXED_POINT: usize = 60;
 
-/// Rigid velocity `(V, omega)` (global) from the momenta about L0 `mu` (global) and the
-/// modes' share `B^T v_L` given in body components `bv`:
-/// `v6 = R6 M6b^-1 (R6^T mu - bv)`.
-#[inline]
-pub(crate) fn velocity(
-    m6b_inv: &Matrix6<f64>,
-    p: &Matrix3<f64>,
-    mu: &Vector6<f64>,
-    bv: &Vector6<f64>,
-) -> Vector6<f64> {
-    let r = r6(p);
-    r * (m6b_inv * (r.tr_mul(mu) - bv))
+/// `M6(P) = G(P)^T M_R G(P)`: the rigid mass of the motion `(V, omega)` at the frame P,
+/// from the file's M_R as the other methods use it (held in the global frame).
+pub(crate) fn rigid_mass(m_r: &nalgebra::DMatrix<f64>, p: &Matrix3<f64>) -> Matrix6<f64> {
+    let nr = m_r.nrows();
+    let g = g_matrix(p, nr);
+    let mut mg = SMatrix::<f64, 15, 6>::zeros();
+    for i in 0..nr {
+        for k in 0..6 {
+            mg[(i, k)] = (0..nr).map(|j| m_r[(i, j)] * g[(j, k)]).sum();
+        }
+    }
+    let mut out = Matrix6::zeros();
+    for a in 0..6 {
+        for b in 0..6 {
+            out[(a, b)] = (0..nr).map(|i| g[(i, a)] * mg[(i, b)]).sum();
+        }
+    }
+    (out + out.transpose()) * 0.5
 }
 
-/// Momenta about L0 from momenta about the global origin: `(p, L_O - X x p)`.
-#[inline]
-pub(crate) fn about(h: &Vector6<f64>, x: &Vector3<f64>) -> Vector6<f64> {
-    let p = Vector3::new(h[0], h[1], h[2]);
-    let l = Vector3::new(h[3], h[4], h[5]) - x.cross(&p);
-    Vector6::new(p[0], p[1], p[2], l[0], l[1], l[2])
-}
-
-/// The drift of the frame over `dt` with the momenta `h` (about the global origin) and
-/// the modes' velocities held: the implicit midpoint on the rotation group,
-/// `v_mid = v6(P_mid, X_mid)`, `P_mid = exp(dt/2 [omega_mid]) P`, `X_mid = X + dt/2 V_mid`,
-/// then `P <- exp(dt [omega_mid]) P`, `X <- X + dt V_mid`. `v` holds the start guess and
-/// returns the midpoint velocity. Returns the number of passes, or `None` when the
-/// iteration did not converge.
-pub(crate) fn drift(
-    m6b_inv: &Matrix6<f64>,
-    h: &Vector6<f64>,
-    bv: &Vector6<f64>,
+/// The implicit midpoint step of the frame over `dt` on the rotation group, the modes
+/// held: with `v_mid = (v + v_new) / 2`, `P_mid = exp(dt/2 [omega_mid]) P` and
+/// `X_mid = X + dt/2 V_mid`, solve `v_new = v + dt a(P_mid, v_mid)` by fixed point, then
+/// `P <- exp(dt [omega_mid]) P`, `X <- X + dt V_mid`, `v <- v_new`. Symmetric, second
+/// order, and P stays a rotation to round-off. Returns the passes, or `None` when the
+/// iteration did not converge (or `accel` failed).
+pub(crate) fn midpoint(
     dt: f64,
     x: &mut Vector3<f64>,
     p: &mut Matrix3<f64>,
     v: &mut Vector6<f64>,
+    mut accel: impl FnMut(&Matrix3<f64>, &Vector6<f64>) -> Option<Vector6<f64>>,
 ) -> Option<usize> {
+    let v0 = *v;
+    let mut vn = v0;
     let mut prev = f64::INFINITY;
     for pass in 1..=MAX_FIXED_POINT {
-        let w = Vector3::new(v[3], v[4], v[5]);
-        let vt = Vector3::new(v[0], v[1], v[2]);
-        let pm = exp_so3(&(w * (0.5 * dt))) * *p;
-        let xm = *x + vt * (0.5 * dt);
-        let next = velocity(m6b_inv, &pm, &about(h, &xm), bv);
-        let change = (next - *v).amax();
-        let size = next.amax();
-        *v = next;
+        let vm = (v0 + vn) * 0.5;
+        let pm = exp_so3(&(Vector3::new(vm[3], vm[4], vm[5]) * (0.5 * dt))) * *p;
+        let next = v0 + accel(&pm, &vm)? * dt;
+        let change = (next - vn).amax();
+        let size = next.amax().max(v0.amax());
+        vn = next;
         if !change.is_finite() {
             return None;
         }
         // Converged: at round-off, or no longer decreasing once near it.
         if change <= 8.0 * f64::EPSILON * size || (change >= prev && change <= 1e-12 * size) {
-            let w = Vector3::new(v[3], v[4], v[5]);
-            *x += Vector3::new(v[0], v[1], v[2]) * dt;
-            *p = exp_so3(&(w * dt)) * *p;
+            let vm = (v0 + vn) * 0.5;
+            *x += Vector3::new(vm[0], vm[1], vm[2]) * dt;
+            *p = exp_so3(&(Vector3::new(vm[3], vm[4], vm[5]) * dt)) * *p;
+            *v = vn;
             return Some(pass);
         }
         prev = change;
