@@ -52,7 +52,11 @@ pub fn report(rows: &[Pt]) -> String {
                 "\n- H = {target:.0e} s: split {:.3e} = {:.2} x the floor ({}).",
                 p.1,
                 p.1 / floor,
-                if p.1 <= 1.5 * floor { "within 1.5 x" } else { "NOT within 1.5 x" }
+                if p.1 <= 1.5 * floor {
+                    "within 1.5 x"
+                } else {
+                    "NOT within 1.5 x"
+                }
             );
         }
     }

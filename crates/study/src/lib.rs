@@ -292,19 +292,11 @@ pub fn run(args: &StudyArgs) -> Result<(), String> {
     let min_time = if args.quick { 0.005 } else { 0.25 };
     let total: usize = cases
         .iter()
-        .map(|c| {
-            c.steps.len()
-                * vs.iter()
-                    .filter(|v| v.offered(&c.scene))
-                    .count()
-        })
+        .map(|c| c.steps.len() * vs.iter().filter(|v| v.offered(&c.scene)).count())
         .sum();
     let mut rows = Vec::new();
     for case in &cases {
-        for v in vs
-            .iter()
-            .filter(|v| v.offered(&case.scene))
-        {
+        for v in vs.iter().filter(|v| v.offered(&case.scene)) {
             for &h in &case.steps {
                 let p = run::measure(case, v, h, min_time);
                 eprintln!(
@@ -387,10 +379,7 @@ pub fn run(args: &StudyArgs) -> Result<(), String> {
     ];
     for (body, scene) in bodies {
         let dt = stability::dt_fx(scene);
-        for v in vs
-            .iter()
-            .filter(|v| v.offered(scene))
-        {
+        for v in vs.iter().filter(|v| v.offered(scene)) {
             let (ratio, why) = stability::largest_stable(scene, v);
             let shown = ratio.map_or(format!(">= {:.0e}", stability::MAX_RATIO), |r| {
                 format!("{r:.4}")

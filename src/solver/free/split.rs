@@ -82,6 +82,8 @@ pub struct Split {
 /// What depends on the body only.
 #[derive(Debug, Clone)]
 struct Consts {
+    /// M_R row-major.
+    m_r: Vec<f64>,
     /// Modal basis: `alpha = S y`, `S^T m_eff S = I`, `S^T K_L S = diag(w^2)`.
     s: DMatrix<f64>,
     omega: Vec<f64>,
@@ -107,6 +109,9 @@ struct Work {
     syd: DVector<f64>,
     /// `K_C,kl alpha` for the nine sub-blocks (`nr` each), for the frame's step.
     kca: Vec<DVector<f64>>,
+    /// The frame `mc`, `kc` and `m6inv` belong to (NaN: none).
+    key: Matrix3<f64>,
+    m6inv: Matrix6<f64>,
 }
 
 impl Split {
@@ -122,7 +127,8 @@ impl Split {
             (Some(u), Some(v_t)) => u * v_t,
             _ => m.p0,
         };
-        let m6 = rigid::rigid_mass(&m.m_r, &p0);
+        let m_r_rows: Vec<f64> = m.m_r.transpose().as_slice().to_vec();
+        let m6 = rigid::rigid_mass(&m_r_rows, nr, &p0);
         let eig = m6.symmetric_eigen().eigenvalues;
         let (lo, hi) = (eig.min(), eig.max());
         let ratio = if hi > 0.0 { lo / hi } else { 0.0 };
@@ -136,10 +142,10 @@ impl Split {
         let mut kc = DMatrix::zeros(nr, nl);
         m.frame_matrices(&p0, &mut mc, &mut kc);
         let g = rigid::g_matrix(&p0, nr);
-        let bmat: DMatrix<f64> = DMatrix::from_fn(nl, 6, |j, k| (0..nr).map(|i| mc[(i, j)] * g[(i, k)]).sum());
+        let bmat: DMatrix<f64> =
+            DMatrix::from_fn(nl, 6, |j, k| (0..nr).map(|i| mc[(i, j)] * g[(i, k)]).sum());
         let minv = DMatrix::from_iterator(6, 6, m6inv.iter().copied());
-        let m_eff: DMatrix<f64> =
-            DMatrix::from_diagonal(&m.m_l) - &bmat * minv * bmat.transpose();
+        let m_eff: DMatrix<f64> = DMatrix::from_diagonal(&m.m_l) - &bmat * minv * bmat.transpose();
         let m_eff = (&m_eff + m_eff.transpose()) * 0.5;
         let coupled = bmat.amax() > 1e-9 * m.m_l.amax().max(m6.amax());
         let (s, lam) = if nl == 0 {
@@ -151,6 +157,7 @@ impl Split {
         let omega: Vec<f64> = w2.iter().map(|x| x.sqrt()).collect();
         let damp = w2.iter().map(|&x| m.ray_a + m.ray_b * x).collect();
         let c = Consts {
+            m_r: m.m_r.transpose().as_slice().to_vec(),
             s,
             omega,
             w2,
@@ -180,6 +187,8 @@ impl Split {
             sy: z.clone(),
             syd: z.clone(),
             kca: vec![DVector::zeros(nr); 9],
+            key: Matrix3::from_element(f64::NAN),
+            m6inv: Matrix6::zeros(),
         };
         let mut s = Split {
             loads: Loads::new(6 * m.nexp),
@@ -234,9 +243,21 @@ impl Split {
 
     /// `M6(P)^-1` for the current frame.
     fn m6_inverse(&self, p: &Matrix3<f64>) -> Result<Matrix6<f64>, SolverError> {
-        rigid::rigid_mass(&self.m.m_r, p)
+        rigid::rigid_mass(&self.c.m_r, self.m.nr, p)
             .try_inverse()
             .ok_or_else(|| singular_error(0.0, 0.0, self.spin_rate()))
+    }
+
+    /// `M_C`, `K_C` and `M6^-1` for the current frame, recomputed only when the frame
+    /// moved since they were last formed.
+    fn frame_terms(&mut self) -> Result<Matrix6<f64>, SolverError> {
+        if self.w.key != self.p {
+            self.m
+                .frame_matrices(&self.p, &mut self.w.mc, &mut self.w.kc);
+            self.w.m6inv = self.m6_inverse(&self.p)?;
+            self.w.key = self.p;
+        }
+        Ok(self.w.m6inv)
     }
 
     /// Loads on the local modes at time `t` with the frame's velocity `v6`, into `out`
@@ -256,9 +277,10 @@ impl Split {
         let cvec = centripetal(&self.p, v6);
         // Rigid generalised force F_R + G_R - K_C alpha - M_R c (in w.f_r).
         for i in 0..nr {
+            let mr = &self.c.m_r[i * nr..(i + 1) * nr];
             let mut s = w.f_r[i] + m.g_r[i] - row_dot(&w.kc, i, &w.alpha);
             for (k, &ck) in cvec[..nr].iter().enumerate() {
-                s -= m.m_r[(i, k)] * ck;
+                s -= mr[k] * ck;
             }
             w.f_r[i] = s;
         }
@@ -318,10 +340,8 @@ impl Split {
             return Ok(());
         }
         let slot = self.coefficients(dt)?;
-        self.m
-            .frame_matrices(&self.p, &mut self.w.mc, &mut self.w.kc);
+        let m6inv = self.frame_terms()?;
         self.w.alpha.gemv(1.0, &self.c.s, &self.y, 0.0);
-        let m6inv = self.m6_inverse(&self.p)?;
         let g = rigid::g_matrix(&self.p, nr);
         let v_start = self.v6;
         let rates = self.loads.rates.iter().any(|&r| r != 0.0);
@@ -385,7 +405,10 @@ impl Split {
         for (kca, kc) in w.kca.iter_mut().zip(&m.k_c_kl) {
             kca.gemv(1.0, kc, &w.alpha, 0.0);
         }
-        let (f_r, kca) = (&w.f_r, &w.kca);
+        let (f_r, kca, m_r) = (&w.f_r, &w.kca, &self.c.m_r);
+        // M6^-1 is re-formed only when the midpoint frame moved by more than 1e-14 since
+        // it was last formed (the passes after the first move it by round-off).
+        let mut cache: Option<(Matrix3<f64>, Matrix6<f64>)> = None;
         let accel = |p: &Matrix3<f64>, v: &Vector6<f64>| -> Option<Vector6<f64>> {
             let c = centripetal(p, v);
             let g = rigid::g_matrix(p, nr);
@@ -398,8 +421,9 @@ impl Split {
                         s -= p[(l, k)] * kca[3 * k + l][i];
                     }
                 }
+                let mr = &m_r[i * nr..(i + 1) * nr];
                 for (j, &cj) in c[..nr].iter().enumerate() {
-                    s -= m.m_r[(i, j)] * cj;
+                    s -= mr[j] * cj;
                 }
                 *r = s;
             }
@@ -407,7 +431,15 @@ impl Split {
             for k in 0..6 {
                 q6[k] = (0..nr).map(|i| g[(i, k)] * rhs[i]).sum();
             }
-            Some(rigid::rigid_mass(&m.m_r, p).try_inverse()? * q6)
+            let inv = match cache {
+                Some((key, inv)) if (key - p).amax() <= 1e-14 => inv,
+                _ => {
+                    let inv = rigid::rigid_mass(m_r, nr, p).try_inverse()?;
+                    cache = Some((*p, inv));
+                    inv
+                }
+            };
+            Some(inv * q6)
         };
         let mut x = m.origin0 + self.d;
         let spin = Vector3::new(v0[3], v0[4], v0[5]).norm();
@@ -485,8 +517,7 @@ impl Split {
     fn refresh(&mut self) -> Result<(), SolverError> {
         let (nr, nl) = (self.m.nr, self.m.nl);
         let v6 = self.v6;
-        self.m
-            .frame_matrices(&self.p, &mut self.w.mc, &mut self.w.kc);
+        let m6inv = self.frame_terms()?;
         self.w.alpha.gemv(1.0, &self.c.s, &self.y, 0.0);
         self.w.vl.gemv(1.0, &self.c.s, &self.yd, 0.0);
         // Coordinates: q_L0 = d, q_Lj = d + e_j - e_j0, rotational DOFs.
@@ -510,7 +541,6 @@ impl Split {
         self.v.rows_mut(0, nr).copy_from(&vr.rows(0, nr));
         self.v.rows_mut(nr, nl).copy_from(&self.w.vl);
         // Accelerations from the equations of motion at this instant.
-        let m6inv = self.m6_inverse(&self.p)?;
         let t = self.t;
         let q6 = self.local_loads(t, &v6, &m6inv, Out::A);
         let w = &mut self.w;

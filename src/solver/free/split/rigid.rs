@@ -50,23 +50,37 @@ pub(crate) fn exp_so3(phi: &Vector3<f64>) -> Matrix3<f64> {
 pub(crate) const MAX_FIXED_POINT: usize = 60;
 
 /// `M6(P) = G(P)^T M_R G(P)`: the rigid mass of the motion `(V, omega)` at the frame P,
-/// from the file's M_R as the other methods use it (held in the global frame).
-pub(crate) fn rigid_mass(m_r: &nalgebra::DMatrix<f64>, p: &Matrix3<f64>) -> Matrix6<f64> {
-    let nr = m_r.nrows();
+/// from the file's M_R as the other methods use it (held in the global frame). `m_r` is
+/// M_R row-major (`nr x nr`); plain arrays, skipping the zeros of G (about half).
+pub(crate) fn rigid_mass(m_r: &[f64], nr: usize, p: &Matrix3<f64>) -> Matrix6<f64> {
     let g = g_matrix(p, nr);
-    let mut mg = SMatrix::<f64, 15, 6>::zeros();
-    for i in 0..nr {
-        for k in 0..6 {
-            mg[(i, k)] = (0..nr).map(|j| m_r[(i, j)] * g[(j, k)]).sum();
+    let mut mg = [[0.0; 6]; 15];
+    for (i, row) in mg.iter_mut().enumerate().take(nr) {
+        let mr = &m_r[i * nr..(i + 1) * nr];
+        for (j, &mij) in mr.iter().enumerate() {
+            for (k, o) in row.iter_mut().enumerate() {
+                let gjk = g[(j, k)];
+                if gjk != 0.0 {
+                    *o += mij * gjk;
+                }
+            }
         }
     }
     let mut out = Matrix6::zeros();
     for a in 0..6 {
-        for b in 0..6 {
-            out[(a, b)] = (0..nr).map(|i| g[(i, a)] * mg[(i, b)]).sum();
+        for b in a..6 {
+            let mut s = 0.0;
+            for (i, row) in mg.iter().enumerate().take(nr) {
+                let gia = g[(i, a)];
+                if gia != 0.0 {
+                    s += gia * row[b];
+                }
+            }
+            out[(a, b)] = s;
+            out[(b, a)] = s;
         }
     }
-    (out + out.transpose()) * 0.5
+    out
 }
 
 /// The implicit midpoint step of the frame over `dt` on the rotation group, the modes
