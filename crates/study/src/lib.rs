@@ -417,8 +417,9 @@ pub fn run(args: &StudyArgs) -> Result<(), String> {
     let h = 0.999 * 0.9 * stability::dt_fx(cant);
     let rounds = if args.quick { 3 } else { 25 };
     let mut brows = Vec::new();
+    let blocked: Vec<Variant> = vs.iter().filter(|v| v.offered(cant)).copied().collect();
     for (nodes, x0) in [(cant.nodes.clone(), cant.x0.clone()), (all, all_x0)] {
-        brows.push(bound::measure(cant, nodes, x0, &vs, h, rounds)?);
+        brows.push(bound::measure(cant, nodes, x0, &blocked, h, rounds)?);
     }
     let mut bcsv = String::from("nodes,modes,h_s,bound_ns,method,ns_per_cycle,ratio\n");
     let mut bmd = String::from(
