@@ -161,3 +161,55 @@ fn second_order_on_a_loaded_tumble() {
     println!("split vs implicit at h = 1/1600: {d:.2e} of the peak {peak:.3e}");
     assert!(d < 1e-5, "split and implicit differ by {d:.2e}");
 }
+
+/// Invalid inputs get the same errors and messages as the implicit method: loads of the
+/// wrong length, non-finite loads or rates, a non-positive step, a body whose nodes lie on
+/// one line (at build); a refused call leaves the state unchanged.
+#[test]
+fn invalid_inputs_as_the_other_free_methods() {
+    use fxbody::solver::SolverError;
+    let b = cube_body(false, 6, 2.0e4);
+    let mut scene = b.scene();
+    scene.w0 = [0.3, -0.2, 0.25];
+    let mut sp = build(&scene, Method::Split, &Options::default()).unwrap();
+    let mut im = build(&scene, Method::Implicit, &Options::default()).unwrap();
+    sp.step(0.01).unwrap();
+    im.step(0.01).unwrap();
+    let n = 6 * b.x.len();
+    let before = sp.state();
+    let mut nan = vec![0.0; n];
+    nan[3] = f64::NAN;
+    for (what, bad) in [("short", vec![0.0; n - 1]), ("nan", nan)] {
+        let (a, c) = (sp.set_loads(&bad), im.set_loads(&bad));
+        assert!(a.is_err(), "{what}");
+        assert_eq!(a, c, "{what}: loads");
+        assert_eq!(
+            sp.set_load_rates(&bad),
+            im.set_load_rates(&bad),
+            "{what}: rates"
+        );
+    }
+    for h in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+        let e = sp.step(h).unwrap_err();
+        assert!(matches!(e, SolverError::BadStep(_)), "{e}");
+        assert_eq!(e.to_string(), im.step(h).unwrap_err().to_string());
+    }
+    assert_eq!(sp.state(), before, "refused calls leave the state");
+    let x = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [2.5, 0.0, 0.0]];
+    let line = spring_body(
+        &x,
+        &[1.0, 2.0, 1.0],
+        None,
+        &[(0, 1, 100.0), (1, 2, 100.0)],
+        Matrix3::identity(),
+        1,
+        1.0,
+    );
+    match Split::new(&line.scene()) {
+        Err(SolverError::Singular(msg)) => assert!(msg.contains("one line"), "{msg}"),
+        other => panic!(
+            "expected a singular-body error, got {:?}",
+            other.map(|_| ())
+        ),
+    }
+}
