@@ -69,7 +69,7 @@ pub enum OptionsError {
         value: String,
     },
     /// `method` naming no method.
-    #[error("{at}: method: expected explicit, implicit or exact, found '{value}'")]
+    #[error("{at}: method: expected explicit, implicit, exact or split, found '{value}'")]
     Method {
         /// File and line.
         at: String,
@@ -162,12 +162,13 @@ pub struct SceneOptions {
     pub platforms: Vec<String>,
 }
 
-/// A method by its name (`explicit`, `implicit`, `exact`), as `pack --method` and
-/// scene.txt spell it.
+/// A method by its name (`explicit`, `implicit`, `exact`, `split`: the names of
+/// [`super::vars::METHODS`]), as `pack --method` and scene.txt spell it.
 pub fn method_by_name(name: &str) -> Option<Method> {
-    [Method::Explicit, Method::Implicit, Method::Exact]
-        .into_iter()
-        .find(|&m| method_name(m) == name)
+    super::vars::METHODS
+        .iter()
+        .find(|i| i.name == name)
+        .map(|i| i.method)
 }
 
 impl SceneOptions {
@@ -378,7 +379,7 @@ mod tests {
             ),
             (
                 "method = fast",
-                "s.txt:4: method: expected explicit, implicit or exact",
+                "s.txt:4: method: expected explicit, implicit, exact or split",
             ),
             (
                 "platforms = win64 amiga",

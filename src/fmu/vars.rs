@@ -474,6 +474,12 @@ pub const METHODS: &[MethodInfo] = &[
         what: "exact modal stepping",
         bodies: Bodies::Blocked,
     },
+    MethodInfo {
+        method: Method::Split,
+        name: "split",
+        what: "Strang splitting: local modes exact, frame second order on the rotation group, any step",
+        bodies: Bodies::Free,
+    },
 ];
 
 /// The Integer range of `method`: the first and last values of [`METHODS`] (declared as

@@ -40,6 +40,9 @@ pub enum Method {
     Implicit = 2,
     /// Exact modal stepping (blocked bodies only).
     Exact = 3,
+    /// Strang splitting (free bodies only): the local modes exact between samples, the
+    /// frame second order on the rotation group (`free::Split`).
+    Split = 4,
 }
 
 /// Settings shared by the methods.
@@ -276,6 +279,7 @@ pub fn build(
         return match method {
             Method::Explicit => Ok(Box::new(free::Explicit::new(scene, opts)?)),
             Method::Implicit => Ok(Box::new(free::Implicit::new(scene, opts)?)),
+            Method::Split => Ok(Box::new(free::Split::new(scene, opts)?)),
             Method::Exact => Err(SolverError::Unsupported {
                 method,
                 why: "exact modal stepping needs a blocked body (Iblo=1)".into(),
@@ -283,6 +287,12 @@ pub fn build(
         };
     }
     match method {
+        Method::Split => Err(SolverError::Unsupported {
+            method,
+            why: "the split method is for free bodies (Iblo=0); a blocked body is linear: \
+                  use the exact method"
+                .into(),
+        }),
         Method::Exact => Ok(Box::new(Exact::new(scene, opts)?)),
         Method::Implicit => Ok(Box::new(Implicit::new(scene, opts)?)),
         Method::Explicit => Ok(Box::new(Explicit::new(scene, opts)?)),

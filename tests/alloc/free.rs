@@ -7,7 +7,7 @@ use fxbody::solver::{Method, Options, build};
 use crate::alloc_counter;
 use crate::common::springs;
 
-/// Zero allocations in `step` (and in `positions`/`velocities`/`accelerations`) for both
+/// Zero allocations in `step` (and in `positions`/`velocities`/`accelerations`) for the
 /// free-body methods, Irot 0 and 1.
 #[test]
 fn stepping_does_not_allocate() {
@@ -16,7 +16,7 @@ fn stepping_does_not_allocate() {
     let probe: Vec<f64> = Vec::with_capacity(16);
     assert!(alloc_counter::allocations() > before);
     drop(probe);
-    for method in [Method::Explicit, Method::Implicit] {
+    for method in [Method::Explicit, Method::Implicit, Method::Split] {
         for irot in [false, true] {
             let b = springs::cube_body(irot, 6, 2.0e4);
             let mut scene = b.scene();

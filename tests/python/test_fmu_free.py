@@ -10,7 +10,7 @@ from fmpy import extract
 from conftest import pack_fmu, reference
 from slave import Slave
 
-EXPLICIT, IMPLICIT = 1, 2
+EXPLICIT, IMPLICIT, SPLIT = 1, 2, 4
 
 
 @pytest.fixture(scope="module")
@@ -28,7 +28,7 @@ def frame_names():
     return [f"frame.P{i}{j}" for i in (1, 2, 3) for j in (1, 2, 3)]
 
 
-@pytest.mark.parametrize("method", [EXPLICIT, IMPLICIT])
+@pytest.mark.parametrize("method", [EXPLICIT, IMPLICIT, SPLIT])
 def test_free_fall_at_g_without_deformation(freefree, method):
     fmu, unz, ref = freefree
     g = 9.81
@@ -58,7 +58,7 @@ def test_free_fall_at_g_without_deformation(freefree, method):
     s.free()
 
 
-@pytest.mark.parametrize("method", [EXPLICIT, IMPLICIT])
+@pytest.mark.parametrize("method", [EXPLICIT, IMPLICIT, SPLIT])
 def test_initial_velocity_moves_the_body_in_a_straight_line(freefree, method):
     fmu, unz, ref = freefree
     v = np.array([0.3, -0.2, 0.1])
@@ -76,7 +76,7 @@ def test_initial_velocity_moves_the_body_in_a_straight_line(freefree, method):
     s.free()
 
 
-@pytest.mark.parametrize("method,substeps,tol", [(EXPLICIT, 1, 0.01), (IMPLICIT, 1, 0.01)])
+@pytest.mark.parametrize("method,substeps,tol", [(EXPLICIT, 1, 0.01), (IMPLICIT, 1, 0.01), (SPLIT, 1, 0.01)])
 def test_tip_pulse_matches_full_fe_reference(freefree, method, substeps, tol):
     """Rectangular 0.1 N pulse at the tip, transverse: the tip displacement (rigid plus
     elastic) against the full-FE modal superposition, within tol of its peak."""

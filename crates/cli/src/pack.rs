@@ -58,8 +58,8 @@ pub struct PackArgs {
     /// DefaultExperiment stop time, s (default: five periods of the lowest mode).
     #[arg(long)]
     pub stop: Option<f64>,
-    /// Start value of the `method` parameter: explicit, implicit or exact (exact: blocked
-    /// bodies only), for masters that cannot set parameters. Default: exact for blocked
+    /// Start value of the `method` parameter: explicit, implicit, exact (blocked bodies
+    /// only) or split (free bodies only), for masters that cannot set parameters. Default: exact for blocked
     /// bodies, implicit for free ones.
     #[arg(long)]
     pub method: Option<String>,
@@ -115,7 +115,7 @@ pub fn run(args: &PackArgs) -> Result<(), String> {
     let method = match args.method.as_deref() {
         None => None,
         Some(m) => Some(method_by_name(m).ok_or_else(|| {
-            format!("--method: expected explicit, implicit or exact, found '{m}'")
+            format!("--method: expected explicit, implicit, exact or split, found '{m}'")
         })?),
     };
     let popts = PackOptions {

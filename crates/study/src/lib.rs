@@ -7,6 +7,7 @@
 //! output folder; peer results (`peers.csv`, written by `study/peers.py`) are added to
 //! the chart and the tables when present.
 
+mod accept;
 mod bound;
 mod chart;
 mod modes;
@@ -19,7 +20,6 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use fxbody::fxb::coords::{read_coords, to_map};
-use fxbody::solver::Method;
 
 use scenes::{Case, Load, Reference, Variant, doublings, fe_response, fixture, variants};
 
@@ -100,13 +100,19 @@ fn build_cases(args: &StudyArgs) -> Result<Vec<Case>, String> {
         reference: None,
     });
     let (r, load, duration) = fe_response(&fj, "pulse")?;
+    // H = 1e-3 s as well: a master's step the acceptance of issue 18 names.
+    let mut pulse_steps = free_steps.clone();
+    if !args.quick {
+        pulse_steps.push(1e-3);
+        pulse_steps.sort_by(f64::total_cmp);
+    }
     cases.push(Case {
         name: "free-free pulse".into(),
         scene: free.clone(),
         load,
         duration,
         components: 1,
-        steps: free_steps.clone(),
+        steps: pulse_steps,
         reference: Some(r),
     });
     let mut tumble = free.clone();
@@ -287,19 +293,11 @@ pub fn run(args: &StudyArgs) -> Result<(), String> {
     let min_time = if args.quick { 0.005 } else { 0.25 };
     let total: usize = cases
         .iter()
-        .map(|c| {
-            c.steps.len()
-                * vs.iter()
-                    .filter(|v| c.scene.body.iblo || v.method != Method::Exact)
-                    .count()
-        })
+        .map(|c| c.steps.len() * vs.iter().filter(|v| v.offered(&c.scene)).count())
         .sum();
     let mut rows = Vec::new();
     for case in &cases {
-        for v in vs
-            .iter()
-            .filter(|v| case.scene.body.iblo || v.method != Method::Exact)
-        {
+        for v in vs.iter().filter(|v| v.offered(&case.scene)) {
             for &h in &case.steps {
                 let p = run::measure(case, v, h, min_time);
                 eprintln!(
@@ -382,10 +380,7 @@ pub fn run(args: &StudyArgs) -> Result<(), String> {
     ];
     for (body, scene) in bodies {
         let dt = stability::dt_fx(scene);
-        for v in vs
-            .iter()
-            .filter(|v| scene.body.iblo || v.method != Method::Exact)
-        {
+        for v in vs.iter().filter(|v| v.offered(scene)) {
             let (ratio, why) = stability::largest_stable(scene, v);
             let shown = ratio.map_or(format!(">= {:.0e}", stability::MAX_RATIO), |r| {
                 format!("{r:.4}")
@@ -423,8 +418,9 @@ pub fn run(args: &StudyArgs) -> Result<(), String> {
     let h = 0.999 * 0.9 * stability::dt_fx(cant);
     let rounds = if args.quick { 3 } else { 25 };
     let mut brows = Vec::new();
+    let blocked: Vec<Variant> = vs.iter().filter(|v| v.offered(cant)).copied().collect();
     for (nodes, x0) in [(cant.nodes.clone(), cant.x0.clone()), (all, all_x0)] {
-        brows.push(bound::measure(cant, nodes, x0, &vs, h, rounds)?);
+        brows.push(bound::measure(cant, nodes, x0, &blocked, h, rounds)?);
     }
     let mut bcsv = String::from("nodes,modes,h_s,bound_ns,method,ns_per_cycle,ratio\n");
     let mut bmd = String::from(
@@ -552,6 +548,19 @@ pub fn run(args: &StudyArgs) -> Result<(), String> {
     );
     md.push_str(&mmd);
     md.push('\n');
+    let pts: Vec<accept::Pt> = rows
+        .iter()
+        .map(|r| {
+            (
+                r.scene.as_str(),
+                r.method.as_str(),
+                r.h,
+                r.point.error,
+                r.point.cpu_per_s,
+            )
+        })
+        .collect();
+    md.push_str(&accept::report(&pts));
     md.push_str("## Stability map\n\n");
     md.push_str(&stab_md);
     let _ = writeln!(
@@ -594,7 +603,7 @@ fn spin_map(args: &StudyArgs) -> Result<(), String> {
     use stability::spin;
     let steps = if args.quick { 200 } else { spin::SPIN_STEPS };
     let mut csv = String::from(
-        "body,axis,dt_fx_s,h_s,omega_rad_s,omega_h,max_frame_error,energy_change,passes\n",
+        "body,axis,dt_fx_s,h_s,omega_rad_s,omega_h,max_frame_error,energy_change,passes,method\n",
     );
     for (name, axis_name) in [
         ("freefree", "e3"),
@@ -611,10 +620,14 @@ fn spin_map(args: &StudyArgs) -> Result<(), String> {
             "e3" => [p0[(0, 2)], p0[(1, 2)], p0[(2, 2)]],
             _ => spin::TUMBLE,
         };
-        for r in spin::grid() {
-            let t = spin::trial(&scene, axis, r, steps);
+        for (r, split) in spin::grid()
+            .into_iter()
+            .flat_map(|r| [(r, false), (r, true)])
+        {
+            let t = spin::trial(&scene, axis, r, steps, split);
+            let method = if split { "split" } else { "explicit" };
             eprintln!(
-                "  spin {name:<9} {axis_name:<6} omega h = {r:<6} omega = {:.4e} frame error {:.3e} energy {:+.3e} {}",
+                "  spin {method:<8} {name:<9} {axis_name:<6} omega h = {r:<6} omega = {:.4e} frame error {:.3e} energy {:+.3e} {}",
                 t.omega,
                 t.frame_error,
                 t.energy_change,
@@ -622,7 +635,7 @@ fn spin_map(args: &StudyArgs) -> Result<(), String> {
             );
             let _ = writeln!(
                 csv,
-                "{name},{axis_name},{dt:.6e},{:.6e},{:.6e},{r},{:.3e},{:.3e},{}",
+                "{name},{axis_name},{dt:.6e},{:.6e},{:.6e},{r},{:.3e},{:.3e},{},{method}",
                 spin::SPIN_H_OVER_DT_FX * dt,
                 t.omega,
                 t.frame_error,

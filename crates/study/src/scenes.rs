@@ -25,7 +25,20 @@ pub struct Variant {
     pub color: &'static str,
 }
 
-/// Every method the study runs; the exact one only on blocked bodies.
+impl Variant {
+    /// Whether the method runs on the body: exact on blocked bodies only, split on free
+    /// ones only, the others on both.
+    pub fn offered(&self, scene: &Scene) -> bool {
+        match self.method {
+            Method::Exact => scene.body.iblo,
+            Method::Split => !scene.body.iblo,
+            _ => true,
+        }
+    }
+}
+
+/// Every method the study runs; the exact one only on blocked bodies, the split one
+/// only on free bodies.
 pub fn variants() -> Vec<Variant> {
     let o = Options::default();
     vec![
@@ -52,6 +65,12 @@ pub fn variants() -> Vec<Variant> {
             method: Method::Explicit,
             opts: o,
             color: "#b2182b",
+        },
+        Variant {
+            label: "split",
+            method: Method::Split,
+            opts: o,
+            color: "#f4a000",
         },
     ]
 }

@@ -106,7 +106,7 @@ pub fn largest_stable(scene: &Scene, v: &Variant) -> (Option<f64>, String) {
 /// is within [`SPIN_ENERGY_TOL`] of the initial one.
 pub mod spin {
     use fxbody::scene::Scene;
-    use fxbody::solver::free::Explicit;
+    use fxbody::solver::free::{Explicit, Split};
     use fxbody::solver::{Options, Solver};
 
     use super::dt_fx;
@@ -141,8 +141,10 @@ pub mod spin {
         }
     }
 
-    /// Run one trial at rotation per step `r`.
-    pub fn trial(scene: &Scene, axis: [f64; 3], r: f64, steps: usize) -> Trial {
+    /// Run one trial at rotation per step `r`: the explicit method (`split` false) as
+    /// described above, or the split method (`split` true), which takes the step as it
+    /// comes (it cuts it into internal steps of at most `ROT_STEP` rad itself).
+    pub fn trial(scene: &Scene, axis: [f64; 3], r: f64, steps: usize, split: bool) -> Trial {
         let h = SPIN_H_OVER_DT_FX * dt_fx(scene);
         let omega = r / h;
         let n = (axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]).sqrt();
@@ -157,11 +159,19 @@ pub mod spin {
             frame_error: f64::INFINITY,
             energy_change: f64::INFINITY,
         };
-        let Ok(mut s) = Explicit::new(&sc, &opts) else {
-            return fail;
+        let mut s: Box<dyn Solver> = if split {
+            match Split::new(&sc, &Options::default()) {
+                Ok(s) => Box::new(s),
+                Err(_) => return fail,
+            }
+        } else {
+            let Ok(mut s) = Explicit::new(&sc, &opts) else {
+                return fail;
+            };
+            // The raw scheme: the product's frame check would stop the run at 1e-6.
+            s.set_spin_limits(f64::INFINITY, f64::INFINITY);
+            Box::new(s)
         };
-        // The raw scheme: the product's frame check would stop the run at 1e-6.
-        s.set_spin_limits(f64::INFINITY, f64::INFINITY);
         let e0 = s.kinetic_energy() + s.strain_energy();
         let mut worst: f64 = 0.0;
         for _ in 0..steps {

@@ -31,10 +31,12 @@ use crate::scene::Scene;
 pub mod explicit;
 pub mod implicit;
 mod lu;
+pub mod split;
 mod validity;
 
 pub use explicit::Explicit;
 pub use implicit::Implicit;
+pub use split::Split;
 pub use validity::{
     FRAME_RETRY_FRACTION, MAX_FRAME_ERROR, MAX_HALVINGS, SPIN_STEP, SPIN_WARN_RATIO,
 };

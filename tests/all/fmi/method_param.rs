@@ -65,7 +65,7 @@ fn out_of_range_methods_are_refused_with_the_range_and_the_instance_runs_on() {
         assert!(
             e.contains(&format!("method: {bad} is not offered"))
                 && e.contains("no method has the value")
-                && e.contains("values 1..3")
+                && e.contains("values 1..4")
                 && e.contains("explicit=1, implicit=2, exact=3"),
             "{e}"
         );

@@ -116,22 +116,35 @@ fn variables_follow_the_interface_names() {
     ] {
         assert!(fnames.contains(&n), "{n}");
     }
-    // `method` is an Integer 1..3 (issue 15: libcosim and ecos ignore Enumerations), its
+    // `method` is an Integer 1..4 (issue 15: libcosim and ecos ignore Enumerations), its
     // description names every value; a free body marks exact as refused.
     assert!(!p.xml.contains("Enumeration") && !free.xml.contains("Enumeration"));
-    assert!(p.xml.contains("<Integer min=\"1\" max=\"3\" start=\"3\"/>"));
+    assert!(p.xml.contains("<Integer min=\"1\" max=\"4\" start=\"3\"/>"));
     assert!(
         free.xml
-            .contains("<Integer min=\"1\" max=\"3\" start=\"2\"/>")
+            .contains("<Integer min=\"1\" max=\"4\" start=\"2\"/>")
     );
     let desc = |t: &fxbody::fmu::vars::VarTable| t.vars[0].description.clone();
-    for v in ["1 = explicit", "2 = implicit", "3 = exact"] {
+    for v in ["1 = explicit", "2 = implicit", "3 = exact", "4 = split"] {
         assert!(
             desc(&p.table).contains(v) && desc(&free.table).contains(v),
             "{v}"
         );
     }
-    assert!(desc(&free.table).contains("refused here") && !desc(&p.table).contains("refused"));
+    // Each body marks the other kind's method as refused: exact on a free body, split
+    // on a blocked one.
+    assert!(
+        desc(&free.table)
+            .contains("exact (exact modal stepping; blocked (Iblo=1) bodies only, refused here)"),
+        "{}",
+        desc(&free.table)
+    );
+    assert!(
+        desc(&p.table).contains("free (Iblo=0) bodies only, refused here)"),
+        "{}",
+        desc(&p.table)
+    );
+    assert!(!desc(&free.table).contains("free (Iblo=0) bodies only, refused here"));
 }
 
 #[test]

@@ -6,4 +6,5 @@ mod fe_reference;
 mod implicit;
 mod radioss_differences;
 mod rotations;
+mod split;
 mod validity;

@@ -251,7 +251,7 @@ fn angular_acceleration_is_followed_by_halving() {
 /// tested.
 #[test]
 fn spin_near_the_first_mode_warns_once() {
-    for method in [Method::Explicit, Method::Implicit] {
+    for method in [Method::Explicit, Method::Implicit, Method::Split] {
         let mut sc = scene("freefree", 511);
         let w1 = omega1(&sc);
         for (ratio, warns) in [

@@ -111,7 +111,11 @@ fn first_mode_decays_at_the_added_ratio_in_every_method_blocked_and_free() {
     let zeta = 0.02;
     let cases: [(&str, i64, &[Method]); 2] = [
         ("cantilever", 121, &ALL),
-        ("freefree", 521, &[Method::Implicit, Method::Explicit]),
+        (
+            "freefree",
+            521,
+            &[Method::Implicit, Method::Explicit, Method::Split],
+        ),
     ];
     for (name, node, methods) in cases {
         let scene = fixture_scene(name, &[node]);
