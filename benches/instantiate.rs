@@ -126,8 +126,7 @@ fn main() {
     let options = SceneOptions {
         name: "large2".into(),
         nodes: nodes.clone(),
-        units: None,
-        fmax: None,
+        ..SceneOptions::default()
     };
     let before = rss();
     let mut times = Vec::new();
