@@ -319,7 +319,7 @@ fn pack_options_are_refused_where_they_cannot_apply() {
     );
     let e = refused(&run(&["pack", free, "--method", "fast", "-o", o]));
     assert!(
-        e.contains("--method: expected explicit, implicit or exact, found 'fast'"),
+        e.contains("--method: expected explicit, implicit, exact or split, found 'fast'"),
         "{e}"
     );
     let e = refused(&run(&["pack", free, "--step", "2", "-o", o]));

@@ -58,7 +58,16 @@ fn run_tip(s: &Slave, fx: &Packed, node: i64) -> f64 {
 fn out_of_range_methods_are_refused_with_the_range_and_the_instance_runs_on() {
     let fx = packed("method_range");
     let twin = run_tip(&Slave::new(&fx, "twin"), &fx, 121);
-    for bad in [0, 4, -1, i32::MIN, i32::MAX] {
+    // 4 (split) exists but handles free bodies only: refused on this blocked body with
+    // that reason.
+    let s = Slave::new(&fx, "split");
+    assert_eq!(set_method(&s, &fx, 4), fmi2Error);
+    let e = s.last_error();
+    assert!(
+        e.contains("split (4) handles free (Iblo=0) bodies only and this body is blocked"),
+        "{e}"
+    );
+    for bad in [0, 5, -1, i32::MIN, i32::MAX] {
         let s = Slave::new(&fx, "bad");
         assert_eq!(set_method(&s, &fx, bad), fmi2Error, "{bad}");
         let e = s.last_error();
