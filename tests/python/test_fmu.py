@@ -167,14 +167,14 @@ def test_archive_layout_and_documentation(packed, body):
 
 def test_method_is_an_integer_parameter_with_its_range(fmu_dir):
     """Issue 15: `method` is an Integer (libcosim and ecos ignore Enumerations) with
-    min 1, max 3 and a description naming each value; fmpy reads it so."""
+    min 1, max 4 and a description naming each value; fmpy reads it so."""
     from conftest import pack_fmu
     from fmpy import read_model_description
 
     md = read_model_description(str(pack_fmu(fmu_dir, "cantilever", "--nodes", "121", name="mint")))
     v = next(v for v in md.modelVariables if v.name == "method")
     assert (v.type, v.causality, v.variability) == ("Integer", "parameter", "fixed")
-    assert (int(v.min), int(v.max), int(v.start)) == (1, 3, 3)
-    for item in ("1 = explicit", "2 = implicit", "3 = exact"):
+    assert (int(v.min), int(v.max), int(v.start)) == (1, 4, 3)
+    for item in ("1 = explicit", "2 = implicit", "3 = exact", "4 = split"):
         assert item in v.description
     assert md.typeDefinitions == []
