@@ -137,10 +137,10 @@ pub unsafe extern "C" fn fmi2Instantiate(
                     fmi2OK,
                     LOG_SOLVER,
                     &format!(
-                        "instantiated: {} variables, {} exposed nodes, {} local modes",
-                        m.table.vars.len(),
-                        m.scene().nodes.len(),
-                        m.scene().body.nl()
+                        "instantiated: {}, {}, {}",
+                        crate::num::count(m.table.vars.len(), "variable"),
+                        crate::num::count(m.scene().nodes.len(), "exposed node"),
+                        crate::num::count(m.scene().body.nl(), "local mode")
                     ),
                 );
             }
