@@ -6,7 +6,8 @@
 //! truncated body has the local modes `Phi_L Psi_k`: `m_L' = 1`, `K_L' = Omega_k^2`,
 //! `M_C,kl' = M_C,kl Psi_k`, `K_C,kl' = K_C,kl Psi_k`, no static modes, and Freq the
 //! largest kept frequency. It is an ordinary [`Body`], so every solver runs it unchanged
-//! and the explicit method's stable step follows the kept modes only. Rayleigh damping
+//! and the explicit method's stable step follows the kept modes only (for a free body,
+//! the kept modes coupled to the rigid motion: `solver::free::explicit`). Rayleigh damping
 //! stays Rayleigh (`alpha I + beta Omega_k^2`).
 //!
 //! Static (residual-flexibility) correction. The dropped modes answer a slowly varying

@@ -87,10 +87,16 @@ impl LocalDamping {
     /// the body's formula for `zeta = 0`; the mass damping is semi-implicit and does not
     /// enter).
     pub fn explicit_stable_step(&self, body: &Body) -> f64 {
+        self.explicit_stable_step_at(body, body.freq_max_hz())
+    }
+
+    /// The same formula for a highest frequency `freq_hz` other than the local modes'
+    /// (a free body's rigid-flexible coupling raises it: `free::explicit`).
+    pub fn explicit_stable_step_at(&self, body: &Body, freq_hz: f64) -> f64 {
         if self.zeta == 0.0 {
-            return body.explicit_stable_step();
+            return crate::body::stable_step(freq_hz, body.damping.map_or(0.0, |d| d.beta));
         }
-        let w = 2.0 * std::f64::consts::PI * body.freq_max_hz();
+        let w = 2.0 * std::f64::consts::PI * freq_hz;
         if w <= 0.0 {
             return f64::INFINITY;
         }

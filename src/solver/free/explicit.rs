@@ -42,6 +42,7 @@
 
 mod accel;
 mod halving;
+mod stable;
 
 use std::cell::RefCell;
 
@@ -123,8 +124,8 @@ impl Explicit {
     pub fn new(scene: &Scene, opts: &Options) -> Result<Explicit, SolverError> {
         let m = Model::new(scene, opts.damping_ratio)?;
         let (nr, nl, nq) = (m.nr, m.nl, m.nq());
-        // The one definition of the stable step (the one `fxbody info` reports, shortened
-        // by an added damping ratio).
+        // The local modes' stable step (the one `fxbody info` reports, shortened by an
+        // added damping ratio); shortened below for the modes coupled to the rigid motion.
         let dt_fx = m.dt_fx;
         let mut v = DVector::zeros(nq);
         m.initial_velocity(scene.v0, scene.w0, &mut v);
@@ -172,6 +173,13 @@ impl Explicit {
             sub_dt1: 0.0,
             halved: 0,
         };
+        // The stable step of the coupled modes (`stable`), when above the local ones'.
+        let coupled = s.coupled_frequency_hz()?;
+        if coupled > scene.body.freq_max_hz() {
+            s.dt_fx = super::super::damping::LocalDamping::new(&scene.body, opts.damping_ratio)?
+                .explicit_stable_step_at(&scene.body, coupled);
+            s.m.dt_fx = s.dt_fx;
+        }
         s.evaluate_outputs()?;
         s.backup.data.reserve(s.state_len());
         Ok(s)

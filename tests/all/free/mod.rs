@@ -7,4 +7,5 @@ mod implicit;
 mod radioss_differences;
 mod rotations;
 mod split;
+mod stable_step;
 mod validity;
