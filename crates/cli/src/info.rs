@@ -36,6 +36,23 @@ struct Info {
     modes: Option<String>,
 }
 
+/// The stable step (before the 0.9 factor) the explicit method uses on `body`: the local
+/// modes' (`Body::explicit_stable_step`) for a blocked body; for a free body the free
+/// explicit solver's own, which also bounds the modes coupled to the rigid motion (a
+/// truncated body's can be stiffer than its local modes). Falls back to the local
+/// modes' value when the solver refuses the body (the solver says why when it is used).
+fn explicit_stable_step(body: &Body) -> f64 {
+    if body.iblo || body.node_ids.is_empty() {
+        return body.explicit_stable_step();
+    }
+    let scene =
+        fxbody::scene::Scene::new(std::sync::Arc::new(body.clone()), vec![0], vec![[0.0; 3]]);
+    match fxbody::solver::free::Explicit::new(&scene, &fxbody::solver::Options::default()) {
+        Ok(s) => s.stable_step(),
+        Err(_) => body.explicit_stable_step(),
+    }
+}
+
 /// Run `info`: the report on stdout, or the error message (for exit code 2).
 pub fn run(args: &InfoArgs) -> Result<(), String> {
     let progress = super::progress::Progress::start("checking");
@@ -58,8 +75,9 @@ pub fn run(args: &InfoArgs) -> Result<(), String> {
         idamp: body.damping.is_some(),
         freq_max_hz: body.freq_max_hz(),
         // The step the explicit solvers really use: from the largest computed frequency
-        // (the stored Freq is printed beside it, and may be wrong).
-        dt_stab_s: body.explicit_stable_step(),
+        // (the stored Freq is printed beside it, and may be wrong), and for a free body
+        // from its modes coupled to the rigid motion when those are stiffer.
+        dt_stab_s: explicit_stable_step(&body),
         mass: body.total_mass(),
         body,
     };
