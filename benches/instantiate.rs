@@ -128,6 +128,7 @@ fn main() {
         nodes: nodes.clone(),
         units: None,
         fmax: None,
+        ..Default::default()
     };
     let before = rss();
     let mut times = Vec::new();

@@ -10,7 +10,8 @@
 //!   inertia) and from them an `M_R` that is the same at every attitude;
 //! - [`modes`]: the eigenproblem, free or blocked from K's null space, the rigid pairs
 //!   removed, `--fmax` with static modes so that statics at the nodes stay exact;
-//! - [`assemble`]: m_L, K_L, M_C,kl, K_C,kl into an [`FxbFile`];
+//! - [`assemble`]: m_L, K_L (from the eigen relations), M_C,kl, K_C,kl into an
+//!   [`FxbFile`];
 //! - [`report`]: what was built and dropped, as text and JSON, to compare with the FE
 //!   code's own mass printout.
 //!
