@@ -7,11 +7,10 @@
 //! tridiagonalisation and divide-and-conquer do the same decomposition in seconds. The
 //! rest of the import keeps nalgebra's types; the copies in and out are O(n^2).
 
-use faer::linalg::matmul::triangular::{self, BlockStructure};
 use faer::linalg::triangular_solve::{
     solve_lower_triangular_in_place, solve_upper_triangular_in_place,
 };
-use faer::{Accum, Mat, MatRef, Par, Side};
+use faer::{Mat, MatRef, Par, Side};
 use nalgebra::DMatrix;
 
 fn to_faer(a: &DMatrix<f64>) -> Mat<f64> {
@@ -84,25 +83,6 @@ pub fn tr_mul(a: &DMatrix<f64>, b: &DMatrix<f64>) -> DMatrix<f64> {
     to_nalgebra(p.as_ref())
 }
 
-/// The symmetric product `A^T B` when it is known to be symmetric (`Phi^T K Phi`): only
-/// its lower triangle is computed, half the work, and mirrored.
-pub fn sym_tr_mul(a: &DMatrix<f64>, b: &DMatrix<f64>) -> DMatrix<f64> {
-    let n = a.ncols();
-    let mut p = Mat::<f64>::zeros(n, n);
-    triangular::matmul(
-        p.as_mut(),
-        BlockStructure::TriangularLower,
-        Accum::Replace,
-        to_faer(a).transpose(),
-        BlockStructure::Rectangular,
-        to_faer(b).as_ref(),
-        BlockStructure::Rectangular,
-        1.0,
-        Par::Seq,
-    );
-    DMatrix::from_fn(n, n, |i, j| if i >= j { p[(i, j)] } else { p[(j, i)] })
-}
-
 /// The product `A B`.
 pub fn mul(a: &DMatrix<f64>, b: &DMatrix<f64>) -> DMatrix<f64> {
     let p = to_faer(a) * to_faer(b);
@@ -168,9 +148,6 @@ mod tests {
         assert!((&l * &z - &k).amax() <= 1e-11 * k.amax());
         assert!((tr_mul(&m, &k) - m.transpose() * &k).amax() <= 1e-13 * (&m * &k).amax());
         assert!((mul(&m, &k) - &m * &k).amax() <= 1e-13 * (&m * &k).amax());
-        let km = &k * &m;
-        let want = m.transpose() * &km;
-        assert!((sym_tr_mul(&m, &km) - &want).amax() <= 1e-13 * want.amax());
         assert!(cholesky(&(-m)).is_none());
     }
 }

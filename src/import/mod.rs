@@ -10,7 +10,8 @@
 //!   inertia) and from them an `M_R` that is the same at every attitude;
 //! - [`modes`]: the eigenproblem, free or blocked from K's null space, the rigid pairs
 //!   removed, `--fmax` with static modes so that statics at the nodes stay exact;
-//! - [`assemble`]: m_L, K_L, M_C,kl, K_C,kl into an [`FxbFile`];
+//! - [`assemble`]: m_L, K_L (from the eigen relations), M_C,kl, K_C,kl into an
+//!   [`FxbFile`];
 //! - [`report`]: what was built and dropped, as text and JSON, to compare with the FE
 //!   code's own mass printout.
 //!
@@ -39,10 +40,11 @@ pub use units::Units;
 /// The largest dense problem `import` solves (DOFs, before dead-DOF removal). Above it the
 /// user is asked to reduce in the FE code. The work is O(n^3) (Cholesky, the standard-form
 /// matrix, the symmetric eigen-solver, the products of [`assemble`]; [`dense`]). Measured
-/// on a 2-core machine under a load average of 10 to 13 (tests/python/import_sizes.py, a
-/// free grillage), beside LAPACK's generalised eigen-solver alone on the same matrices in
-/// the same run: 1008 DOFs 4.6 s (LAPACK 1.2 s), 2040 DOFs 36 s (9.5 s), 3000 DOFs 97 s
-/// (22 s); 4032 DOFs took 189 s with the limit lifted.
+/// on a 2-core machine under a load average of 5 (tests/python/import_sizes.py, a free
+/// grillage), beside LAPACK's generalised eigen-solver alone on the same matrices in the
+/// same run: 1008 DOFs 1.5 s (LAPACK 0.6 s), 2040 DOFs 7.6 s (3.7 s), 3000 DOFs 24 s
+/// (12 s); earlier, under a load of 10 to 13 and with m_L, K_L from products, 4032 DOFs
+/// took 189 s with the limit lifted.
 pub const MAX_DENSE_DOFS: usize = 3000;
 
 /// Free or blocked, as asked on the command line; `Detect` takes it from K's null space.

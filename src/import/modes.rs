@@ -193,7 +193,14 @@ pub fn elastic(
     Ok((lambda, phi))
 }
 
-/// The local modes on the a-set, static modes first, and how many are static.
+/// The local modes on the a-set, static modes first, how many are static, and their
+/// generalised mass and stiffness.
+///
+/// `m_l` and `k_l` come from the eigen relations, not from `Phi^T M Phi` and
+/// `Phi^T K Phi` (two n x n-by-nl products, a third of a 3000-DOF import): before scaling
+/// the columns are M-orthonormal (`Phi^T M Phi = I`, `Phi^T K Phi = Lambda`), a static
+/// mode `Phi_d u` has `u^T Lambda_d u'` with another and none with a kept mode, and a
+/// column scaled by `f` has its row and column of both scaled by `f`.
 #[derive(Debug, Clone)]
 pub struct Basis {
     /// Modes on the a-set, one per column, each scaled so that its largest nodal
@@ -201,6 +208,11 @@ pub struct Basis {
     pub phi: DMatrix<f64>,
     /// The first `nbstat` columns are static modes.
     pub nbstat: usize,
+    /// Generalised masses `phi_j^T M phi_j` (the scale factors squared).
+    pub m_l: Vec<f64>,
+    /// `Phi^T K Phi`: a full static block, the eigenvalues (scaled) on the rest of the
+    /// diagonal, zero elsewhere.
+    pub k_l: DMatrix<f64>,
 }
 
 /// Cut at `fmax` with static modes for the nodes `node_ids` (see the module text), then
@@ -223,6 +235,9 @@ pub fn local_basis(
     };
     let nd = lambda.len() - kept;
     let mut cols: Vec<DVector<f64>> = Vec::new();
+    // u^T Lambda_d for each static mode's coefficients u, for the static block of K_L.
+    let mut ul: Vec<DVector<f64>> = Vec::new();
+    let mut us: Vec<DVector<f64>> = Vec::new();
     if nd > 0 {
         let pd = phi.columns(kept, nd);
         let loads = model.grid_loads(node_ids);
@@ -240,6 +255,11 @@ pub fn local_basis(
         idx.sort_by(|&i, &j| svd.singular_values[j].total_cmp(&svd.singular_values[i]));
         for i in idx {
             cols.push(pd * u.column(i));
+            us.push(u.column(i).into_owned());
+            ul.push(
+                u.column(i)
+                    .component_mul(&DVector::from_column_slice(&lambda[kept..])),
+            );
         }
         report.dropped_hz = lambda[kept..].iter().map(|&l| hz(l)).collect();
     }
@@ -253,16 +273,34 @@ pub fn local_basis(
         ));
     }
     let mut phi_l = DMatrix::from_columns(&cols);
-    scale(model, &mut phi_l, node_ids);
+    let f = scale(model, &mut phi_l, node_ids);
+    let nl = phi_l.ncols();
+    let mut k_l = DMatrix::zeros(nl, nl);
+    for i in 0..nbstat {
+        for j in 0..nbstat {
+            k_l[(i, j)] = f[i] * f[j] * ul[i].dot(&us[j]);
+        }
+    }
+    for j in nbstat..nl {
+        k_l[(j, j)] = f[j] * f[j] * lambda[j - nbstat];
+    }
+    let m_l = f.iter().map(|f| f * f).collect();
     report.kept_modes = kept;
     report.static_modes = nbstat;
-    Ok(Basis { phi: phi_l, nbstat })
+    Ok(Basis {
+        phi: phi_l,
+        nbstat,
+        m_l,
+        k_l,
+    })
 }
 
 /// Scale each mode so that its largest translation at the FXB nodes is +1 (else its
-/// largest rotation there; a mode with neither keeps its unit M-norm).
-fn scale(model: &Reduced, phi: &mut DMatrix<f64>, node_ids: &[i64]) {
+/// largest rotation there; a mode with neither keeps its unit M-norm). Returns the
+/// factors.
+fn scale(model: &Reduced, phi: &mut DMatrix<f64>, node_ids: &[i64]) -> Vec<f64> {
     let full = model.expand(phi);
+    let mut factors = vec![1.0; phi.ncols()];
     let on_node: Vec<bool> = model
         .all
         .iter()
@@ -286,8 +324,9 @@ fn scale(model: &Reduced, phi: &mut DMatrix<f64>, node_ids: &[i64]) {
             best[1].1
         };
         if pick != 0.0 {
-            let f = 1.0 / pick;
-            phi.column_mut(j).scale_mut(f);
+            factors[j] = 1.0 / pick;
+            phi.column_mut(j).scale_mut(factors[j]);
         }
     }
+    factors
 }

@@ -43,8 +43,9 @@ pub struct Report {
     /// `|M_R,naive - M_R| / |M_R|` (Frobenius): how far OpenRadioss's `Phi_R^T M Phi_R`
     /// would be from the rotation-invariant M_R.
     pub naive_m_r_diff: Option<f64>,
-    /// Largest off-diagonal of `Phi_L^T M Phi_L` and of the dynamic block of
-    /// `Phi_L^T K Phi_L` relative to their diagonals (round-off, dropped from the file).
+    /// How far `Phi_L^T M Phi_L` and the dynamic block of `Phi_L^T K Phi_L` are from the
+    /// diagonal m_L and K_L written (from the eigen relations), relative to that diagonal:
+    /// round-off, estimated on a few probe vectors (`assemble`).
     pub offdiag: f64,
     /// Nodes written.
     pub nodes: usize,
