@@ -376,6 +376,8 @@ impl Explicit {
 }
 
 impl Solver for Explicit {
+    free_solver_common!(Method::Explicit);
+
     fn method(&self) -> Method {
         Method::Explicit
     }
@@ -434,14 +436,6 @@ impl Solver for Explicit {
         Ok(())
     }
 
-    fn positions(&self, out: &mut [f64]) {
-        self.m.positions(&self.q, &self.p, out);
-    }
-
-    fn rotations(&self, out: &mut [f64]) {
-        self.m.rotations(&self.q, &self.p, out);
-    }
-
     fn velocities(&self, out: &mut [f64]) {
         // Without allocation: map coordinate by coordinate.
         for k in 0..self.m.nexp.min(out.len() / 3) {
@@ -476,38 +470,8 @@ impl Solver for Explicit {
         self.with_velocity(|v| self.m.rotation_rates(v, &self.p, out));
     }
 
-    fn modal(&self) -> &[f64] {
-        &self.q.as_slice()[self.m.nr..]
-    }
-
-    fn strain_energy(&self) -> f64 {
-        self.m.strain_energy(&self.q)
-    }
-
     fn kinetic_energy(&self) -> f64 {
         self.with_velocity(|v| self.m.kinetic_energy(v, &self.p))
-    }
-
-    fn frame(&self) -> Option<Frame> {
-        Some(self.m.frame(&self.q, &self.p))
-    }
-
-    fn state(&self) -> State {
-        let mut d = Vec::with_capacity(self.state_len());
-        self.write_state(&mut d);
-        State {
-            method: Method::Explicit,
-            data: d,
-        }
-    }
-
-    fn state_into(&self, out: &mut State) {
-        out.method = Method::Explicit;
-        self.write_state(&mut out.data);
-    }
-
-    fn take_warning(&mut self) -> Option<String> {
-        self.warning.take()
     }
 
     fn set_state(&mut self, state: &State) -> Result<(), SolverError> {

@@ -379,6 +379,8 @@ fn fill_mass(m: &Model, kkt: &mut Lu) {
 }
 
 impl Solver for Implicit {
+    free_solver_common!(Method::Implicit);
+
     fn method(&self) -> Method {
         Method::Implicit
     }
@@ -413,14 +415,6 @@ impl Solver for Implicit {
         Ok(())
     }
 
-    fn positions(&self, out: &mut [f64]) {
-        self.m.positions(&self.q, &self.p, out);
-    }
-
-    fn rotations(&self, out: &mut [f64]) {
-        self.m.rotations(&self.q, &self.p, out);
-    }
-
     fn velocities(&self, out: &mut [f64]) {
         self.m.fields(&self.v, &self.p, out);
     }
@@ -433,38 +427,8 @@ impl Solver for Implicit {
         self.m.rotation_rates(&self.v, &self.p, out);
     }
 
-    fn modal(&self) -> &[f64] {
-        &self.q.as_slice()[self.m.nr..]
-    }
-
-    fn strain_energy(&self) -> f64 {
-        self.m.strain_energy(&self.q)
-    }
-
     fn kinetic_energy(&self) -> f64 {
         self.m.kinetic_energy(&self.v, &self.p)
-    }
-
-    fn frame(&self) -> Option<Frame> {
-        Some(self.m.frame(&self.q, &self.p))
-    }
-
-    fn state(&self) -> State {
-        let mut d = Vec::with_capacity(self.state_len());
-        self.write_state(&mut d);
-        State {
-            method: Method::Implicit,
-            data: d,
-        }
-    }
-
-    fn state_into(&self, out: &mut State) {
-        out.method = Method::Implicit;
-        self.write_state(&mut out.data);
-    }
-
-    fn take_warning(&mut self) -> Option<String> {
-        self.warning.take()
     }
 
     fn set_state(&mut self, state: &State) -> Result<(), SolverError> {

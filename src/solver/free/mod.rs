@@ -28,6 +28,54 @@ pub(crate) use super::loads::Loads;
 use crate::body::Body;
 use crate::scene::Scene;
 
+/// The [`crate::solver::Solver`] items every free method answers the same way from its
+/// coordinates `self.q`, its frame `self.p` and the shared [`Model`] `self.m` (positions,
+/// node rotations, modal coordinates, strain energy, the frame, the state wrapper for
+/// `$method`, the pending warning), written once. Invoked inside each method's
+/// `impl Solver`; the method writes `write_state`, `state_len`, `set_state` and the
+/// velocity-dependent outputs itself.
+macro_rules! free_solver_common {
+    ($method:expr) => {
+        fn positions(&self, out: &mut [f64]) {
+            self.m.positions(&self.q, &self.p, out);
+        }
+
+        fn rotations(&self, out: &mut [f64]) {
+            self.m.rotations(&self.q, &self.p, out);
+        }
+
+        fn modal(&self) -> &[f64] {
+            &self.q.as_slice()[self.m.nr..]
+        }
+
+        fn strain_energy(&self) -> f64 {
+            self.m.strain_energy(&self.q)
+        }
+
+        fn frame(&self) -> Option<Frame> {
+            Some(self.m.frame(&self.q, &self.p))
+        }
+
+        fn state(&self) -> State {
+            let mut d = Vec::with_capacity(self.state_len());
+            self.write_state(&mut d);
+            State {
+                method: $method,
+                data: d,
+            }
+        }
+
+        fn state_into(&self, out: &mut State) {
+            out.method = $method;
+            self.write_state(&mut out.data);
+        }
+
+        fn take_warning(&mut self) -> Option<String> {
+            self.warning.take()
+        }
+    };
+}
+
 pub mod explicit;
 pub mod implicit;
 mod lu;

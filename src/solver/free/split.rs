@@ -643,6 +643,8 @@ fn advance(coef: &[f64], f0: &[f64], f1: &[f64], y: &mut [f64], v: &mut [f64]) {
 }
 
 impl Solver for Split {
+    free_solver_common!(Method::Split);
+
     fn method(&self) -> Method {
         Method::Split
     }
@@ -674,10 +676,6 @@ impl Solver for Split {
         Ok(())
     }
 
-    fn positions(&self, out: &mut [f64]) {
-        self.m.positions(&self.q, &self.p, out);
-    }
-
     fn velocities(&self, out: &mut [f64]) {
         self.m.fields(&self.v, &self.p, out);
     }
@@ -690,42 +688,8 @@ impl Solver for Split {
         self.m.rotation_rates(&self.v, &self.p, out);
     }
 
-    fn rotations(&self, out: &mut [f64]) {
-        self.m.rotations(&self.q, &self.p, out);
-    }
-
-    fn modal(&self) -> &[f64] {
-        &self.q.as_slice()[self.m.nr..]
-    }
-
-    fn strain_energy(&self) -> f64 {
-        self.m.strain_energy(&self.q)
-    }
-
     fn kinetic_energy(&self) -> f64 {
         self.m.kinetic_energy(&self.v, &self.p)
-    }
-
-    fn frame(&self) -> Option<Frame> {
-        Some(self.m.frame(&self.q, &self.p))
-    }
-
-    fn state(&self) -> State {
-        let mut d = Vec::with_capacity(self.state_len());
-        self.write_state(&mut d);
-        State {
-            method: Method::Split,
-            data: d,
-        }
-    }
-
-    fn state_into(&self, out: &mut State) {
-        out.method = Method::Split;
-        self.write_state(&mut out.data);
-    }
-
-    fn take_warning(&mut self) -> Option<String> {
-        self.warning.take()
     }
 
     fn set_state(&mut self, state: &State) -> Result<(), SolverError> {
