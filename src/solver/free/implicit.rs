@@ -380,6 +380,7 @@ fn fill_mass(m: &Model, kkt: &mut Lu) {
 
 impl Solver for Implicit {
     free_solver_common!(Method::Implicit);
+    free_solver_sampled_velocity!();
 
     fn method(&self) -> Method {
         Method::Implicit
@@ -413,22 +414,6 @@ impl Solver for Implicit {
         all_or_nothing(self, |s| s.run_step(h))?;
         self.warning = spin_warning(&self.m, self.spin_rate(), &mut self.warned);
         Ok(())
-    }
-
-    fn velocities(&self, out: &mut [f64]) {
-        self.m.fields(&self.v, &self.p, out);
-    }
-
-    fn accelerations(&self, out: &mut [f64]) {
-        self.m.fields(&self.acc, &self.p, out);
-    }
-
-    fn rotation_rates(&self, out: &mut [f64]) {
-        self.m.rotation_rates(&self.v, &self.p, out);
-    }
-
-    fn kinetic_energy(&self) -> f64 {
-        self.m.kinetic_energy(&self.v, &self.p)
     }
 
     fn set_state(&mut self, state: &State) -> Result<(), SolverError> {

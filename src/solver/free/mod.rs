@@ -76,6 +76,29 @@ macro_rules! free_solver_common {
     };
 }
 
+/// The velocity-dependent [`crate::solver::Solver`] items of a free method that keeps its
+/// velocities `self.v` and accelerations `self.acc` at the sample (implicit, split; the
+/// explicit method's velocities are staggered and computed on demand).
+macro_rules! free_solver_sampled_velocity {
+    () => {
+        fn velocities(&self, out: &mut [f64]) {
+            self.m.fields(&self.v, &self.p, out);
+        }
+
+        fn accelerations(&self, out: &mut [f64]) {
+            self.m.fields(&self.acc, &self.p, out);
+        }
+
+        fn rotation_rates(&self, out: &mut [f64]) {
+            self.m.rotation_rates(&self.v, &self.p, out);
+        }
+
+        fn kinetic_energy(&self) -> f64 {
+            self.m.kinetic_energy(&self.v, &self.p)
+        }
+    };
+}
+
 pub mod explicit;
 pub mod implicit;
 mod lu;

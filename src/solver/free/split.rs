@@ -644,6 +644,7 @@ fn advance(coef: &[f64], f0: &[f64], f1: &[f64], y: &mut [f64], v: &mut [f64]) {
 
 impl Solver for Split {
     free_solver_common!(Method::Split);
+    free_solver_sampled_velocity!();
 
     fn method(&self) -> Method {
         Method::Split
@@ -674,22 +675,6 @@ impl Solver for Split {
         let spin = self.spin_rate();
         self.warning = spin_warning(&self.m, spin, &mut self.warned);
         Ok(())
-    }
-
-    fn velocities(&self, out: &mut [f64]) {
-        self.m.fields(&self.v, &self.p, out);
-    }
-
-    fn accelerations(&self, out: &mut [f64]) {
-        self.m.fields(&self.acc, &self.p, out);
-    }
-
-    fn rotation_rates(&self, out: &mut [f64]) {
-        self.m.rotation_rates(&self.v, &self.p, out);
-    }
-
-    fn kinetic_energy(&self) -> f64 {
-        self.m.kinetic_energy(&self.v, &self.p)
     }
 
     fn set_state(&mut self, state: &State) -> Result<(), SolverError> {
