@@ -85,7 +85,7 @@ fn uniform_loads_move_the_centre_of_mass_exactly() {
 
 /// Positions after 1 s of a loaded tumble on a soft body (all modes resolved), for a
 /// step h.
-fn tumble(method: Method, h: f64, stiffness: f64, opts: &Options) -> Vec<f64> {
+pub(super) fn tumble(method: Method, h: f64, stiffness: f64, opts: &Options) -> Vec<f64> {
     let b = cube_body(true, 6, stiffness);
     let mut scene = b.scene();
     scene.w0 = [0.3, -0.2, 0.25];
@@ -109,7 +109,7 @@ fn tumble(method: Method, h: f64, stiffness: f64, opts: &Options) -> Vec<f64> {
         .collect()
 }
 
-fn max_diff(a: &[f64], b: &[f64]) -> f64 {
+pub(super) fn max_diff(a: &[f64], b: &[f64]) -> f64 {
     a.iter()
         .zip(b)
         .map(|(x, y)| (x - y).abs())

@@ -2,6 +2,7 @@
 //! its own convergence order, agreement with the implicit method, and the full
 //! finite-element model at a master's step.
 
+use super::implicit::max_diff;
 use crate::common::springs::*;
 use fxbody::solver::free::Split;
 use fxbody::solver::{Method, Options, Solver, build};
@@ -106,36 +107,10 @@ fn rigid_spin_about_a_principal_axis_is_exact() {
     }
 }
 
-/// Positions after 1 s of a loaded tumble (loads with rates) on a soft body.
+/// Positions after 1 s of the loaded tumble of the implicit method's tests (the soft
+/// cube, stiffness 200), for a step h.
 fn tumble(method: Method, h: f64) -> Vec<f64> {
-    let b = cube_body(true, 6, 200.0);
-    let mut scene = b.scene();
-    scene.w0 = [0.3, -0.2, 0.25];
-    scene.v0 = [0.1, 0.0, -0.1];
-    let mut s = build(&scene, method, &Options::default()).unwrap();
-    let mut loads = vec![0.0; 6 * b.x.len()];
-    loads[6 * 6] = 2.0;
-    loads[6 * 6 + 2] = -1.0;
-    loads[6 * 2 + 4] = 0.5;
-    s.set_loads(&loads).unwrap();
-    s.set_load_rates(&vec![0.2; loads.len()]).unwrap();
-    let n = (1.0 / h).round() as usize;
-    for _ in 0..n {
-        s.step(h).unwrap();
-    }
-    let mut x = vec![0.0; 3 * b.x.len()];
-    s.positions(&mut x);
-    x.iter()
-        .zip(b.x.iter().flatten())
-        .map(|(x, x0)| x - x0)
-        .collect()
-}
-
-fn max_diff(a: &[f64], b: &[f64]) -> f64 {
-    a.iter()
-        .zip(b)
-        .map(|(x, y)| (x - y).abs())
-        .fold(0.0, f64::max)
+    super::implicit::tumble(method, h, 200.0, &Options::default())
 }
 
 /// Second order on the loaded tumble: halving the step divides the error against a 16
