@@ -6,11 +6,28 @@
 use crate::common::{displacements, fixture_scene_and_reference as scene, nums};
 use fxbody::solver::{Method, Options, build};
 
-fn dof(name: &str) -> usize {
+/// Index 0..6 of a load component name (`fx` .. `mz`).
+pub(super) fn dof(name: &str) -> usize {
     ["fx", "fy", "fz", "mx", "my", "mz"]
         .iter()
         .position(|d| *d == name)
         .unwrap()
+}
+
+/// The fixture's scene with every node of its FE reference exposed, the reference, those
+/// node IDs and the tip node's position among them.
+pub(super) fn every_node(name: &str) -> (fxbody::scene::Scene, serde_json::Value, Vec<i64>, usize) {
+    let (_, reference) = scene(name, &[]);
+    let ids: Vec<i64> = reference["node_ids"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_i64().unwrap())
+        .collect();
+    let (sc, reference) = scene(name, &ids);
+    let tip = reference["tip_node"].as_i64().unwrap();
+    let k_tip = ids.iter().position(|&i| i == tip).unwrap();
+    (sc, reference, ids, k_tip)
 }
 
 #[test]
@@ -19,20 +36,11 @@ fn steady_state_equals_fe_static_deflection() {
     // three moments), every method, 6 s of simulation (slowest decay e^-2.5t): the
     // translations of every node equal the FE static solution within 0.1% of the
     // largest FE displacement of that case.
-    let (_, reference) = scene("cantilever_damped", &[]);
-    let ids: Vec<i64> = reference["node_ids"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|v| v.as_i64().unwrap())
-        .collect();
-    let (sc, reference) = scene("cantilever_damped", &ids);
-    let tip = reference["tip_node"].as_i64().unwrap();
-    let k_tip = ids.iter().position(|&i| i == tip).unwrap();
+    let (sc, reference, ids, k_tip) = every_node("cantilever_damped");
     for case in reference["static"].as_array().unwrap() {
         let d = dof(case["load_dof"].as_str().unwrap());
         let value = case["load_value"].as_f64().unwrap();
-        assert_eq!(case["load_node"].as_i64().unwrap(), tip);
+        assert_eq!(case["load_node"].as_i64().unwrap(), ids[k_tip]);
         let want: Vec<f64> = ids
             .iter()
             .flat_map(|id| nums(&case["displacements"][id.to_string()])[..3].to_vec())

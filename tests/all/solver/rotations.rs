@@ -3,6 +3,7 @@
 //! solution, global nodal rotations, under each tip load), and the rotation's rate
 //! against the angular-velocity output.
 
+use super::fe_reference::{dof, every_node};
 use crate::common::{fixture_scene_and_reference as scene, nums};
 use fxbody::solver::{Method, Options, build};
 
@@ -17,21 +18,11 @@ fn steady_rotations_equal_the_fe_static_rotations() {
     // setting as the translations' (`fe_reference::steady_state_equals_fe_static_deflection`,
     // bound 1e-3). Bounds: 1e-5 (exact, explicit) and 3e-4 (implicit) of the largest FE
     // rotation of the case.
-    let (_, reference) = scene("cantilever_damped", &[]);
-    let ids: Vec<i64> = reference["node_ids"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|v| v.as_i64().unwrap())
-        .collect();
-    let (sc, reference) = scene("cantilever_damped", &ids);
-    let tip = reference["tip_node"].as_i64().unwrap();
-    let k_tip = ids.iter().position(|&i| i == tip).unwrap();
-    let dofs = ["fx", "fy", "fz", "mx", "my", "mz"];
+    let (sc, reference, ids, k_tip) = every_node("cantilever_damped");
     let mut worst: f64 = 0.0;
     for case in reference["static"].as_array().unwrap() {
         let name = case["load_dof"].as_str().unwrap();
-        let d = dofs.iter().position(|x| *x == name).unwrap();
+        let d = dof(name);
         let want: Vec<f64> = ids
             .iter()
             .flat_map(|id| nums(&case["displacements"][id.to_string()])[3..].to_vec())
