@@ -18,18 +18,19 @@ E, G, RHO = 210e9, 81e9, 7850.0
 SPOINT0 = 900001
 
 
-def bracket():
+def bracket(refine=1):
     """A 3D frame bracket: members along x (1.0 m, 4 elements), then y (0.6 m, 3), then
-    z (0.4 m, 2), solid 40 x 30 mm. Node IDs 101..110, coordinates (m), full K and M
-    (6 DOFs a node, global frame, node-major), 60 DOFs. Its principal axes are not the
-    global ones."""
+    z (0.4 m, 2), solid 40 x 30 mm; `refine` divides every element into that many. Node
+    IDs from 101 along the members (refine 1: 101..110, corners 105 and 108, ends 101 and
+    110), coordinates (m), full K and M (6 DOFs a node, global frame, node-major), 60 DOFs
+    at refine 1. Its principal axes are not the global ones."""
     sec = fe.rect_section(0.04, 0.03)
     axes = {
         "x": np.eye(3),
         "y": np.array([[0.0, 1.0, 0.0], [-1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]),
         "z": np.array([[0.0, 0.0, 1.0], [0.0, 1.0, 0.0], [-1.0, 0.0, 0.0]]),
     }
-    legs = [("x", 1.0, 4), ("y", 0.6, 3), ("z", 0.4, 2)]
+    legs = [("x", 1.0, 4 * refine), ("y", 0.6, 3 * refine), ("z", 0.4, 2 * refine)]
     xyz = [np.zeros(3)]
     els = []
     for ax, length, nel in legs:
@@ -60,21 +61,88 @@ def guyan(k, m, b):
     return t.T @ k @ t, t.T @ m @ t, t
 
 
-def craig_bampton(k, m, b, nmodes):
-    """Craig-Bampton: interface rows b plus nmodes fixed-interface modes (mass-normalised).
-    Returns (K_cb, M_cb, T, cut-off Hz = frequency of the last kept fixed-interface mode)."""
+def fixed_interface(k, m, b):
+    """The interior rows i (all but b), the fixed-interface modes (omega^2 ascending, mass-
+    normalised shapes over i) and the constraint modes T_c (identity on b, -K_ii^-1 K_ib
+    on i: Guyan's T)."""
     n = k.shape[0]
     i = np.setdiff1d(np.arange(n), b)
     w2, psi = la.eigh(k[np.ix_(i, i)], m[np.ix_(i, i)])
-    psi = psi[:, :nmodes]
-    _, _, tg = guyan(k, m, b)
-    t = np.zeros((n, len(b) + nmodes))
+    return i, w2, psi, guyan(k, m, b)[2]
+
+
+def craig_bampton(k, m, b, nmodes, fixed=None):
+    """Craig-Bampton: interface rows b plus nmodes fixed-interface modes (mass-normalised).
+    Returns (K_cb, M_cb, T, cut-off Hz = frequency of the last kept fixed-interface mode).
+    `fixed`: fixed_interface(k, m, b) if already computed."""
+    i, w2, psi, tg = fixed if fixed is not None else fixed_interface(k, m, b)
+    t = np.zeros((k.shape[0], len(b) + nmodes))
     t[:, : len(b)] = tg
-    t[i, len(b):] = psi
+    t[i, len(b):] = psi[:, :nmodes]
     kc, mc = t.T @ k @ t, t.T @ m @ t
     kc = 0.5 * (kc + kc.T)
     mc = 0.5 * (mc + mc.T)
     return kc, mc, t, float(np.sqrt(w2[nmodes - 1]) / (2 * np.pi))
+
+
+def craig_bampton_upto(k, m, b, cutoff, fixed=None):
+    """Craig-Bampton as a user runs it: every fixed-interface mode up to `cutoff` Hz.
+    Returns (K_cb, M_cb, modes kept, dropped), dropped = (omega^2 of the fixed-interface
+    modes left out, their inertial coupling to the interface DOFs psi_j^T (M_ii T_ci +
+    M_ib), one row a mode): all that the reduction leaves out of the full model."""
+    fixed = fixed if fixed is not None else fixed_interface(k, m, b)
+    i, w2, psi, tg = fixed
+    nm = int((np.sqrt(w2) / (2 * np.pi) <= cutoff).sum())
+    kc, mc, _, _ = craig_bampton(k, m, b, nm, fixed)
+    coupling = psi[:, nm:].T @ (m[np.ix_(i, i)] @ tg[i] + m[np.ix_(i, b)])
+    return kc, mc, nm, (w2[nm:], coupling)
+
+
+def truncation_estimate(lam, x_b, dropped):
+    """Second-order estimate of the relative frequency error of Craig-Bampton modes
+    (eigenvalues lam, interface part x_b of the M_cb-normalised vectors, one column a
+    mode) from the dropped fixed-interface modes alone: the full model's equations give
+    each dropped mode the amplitude q_j = lam c_j x_b / (w_j^2 - lam), which lowers lam by
+    lam^2 sum_j (c_j x_b)^2 / (w_j^2 - lam); half of that relative to lam for the
+    frequency."""
+    w2, c = dropped
+    cx = c @ x_b
+    return 0.5 * np.sum(lam * cx**2 / (w2[:, None] - lam), axis=0)
+
+
+def bar(nel):
+    """A uniform bar in axial motion, one DOF a node from one end (node 0) to the other:
+    length 1, EA 1, rho A 1, nel linear elements, consistent mass. Returns (K, M)."""
+    k, m = np.zeros((nel + 1, nel + 1)), np.zeros((nel + 1, nel + 1))
+    h = 1.0 / nel
+    for a in range(nel):
+        k[a : a + 2, a : a + 2] += np.array([[1.0, -1.0], [-1.0, 1.0]]) / h
+        m[a : a + 2, a : a + 2] += np.array([[2.0, 1.0], [1.0, 2.0]]) * h / 6
+    return k, m
+
+
+def bar_craig_bampton_exact(kept, nroots):
+    """The first nroots Craig-Bampton frequencies, in units of the first free-free one f1,
+    of a uniform free bar coupled at one end, with its first `kept` fixed-interface modes,
+    in closed form. The constraint mode is the rigid translation; the fixed-interface
+    (clamped-free) modes are at (j - 1/2) f1, with effective masses eps_j = 2 / (pi^2
+    (j - 1/2)^2) of the bar's (summing to 1). So lambda = (f / f1)^2 solves
+    1 + sum_j eps_j lambda / (lambda_j - lambda) = 0, one root between consecutive poles
+    (with every mode: exactly n f1). nroots < kept."""
+    from scipy.optimize import brentq
+
+    lj = (np.arange(1, kept + 1) - 0.5) ** 2
+    eps = 2.0 / (np.pi**2 * lj)
+
+    def secular(lam):
+        return 1.0 + np.sum(eps * lam / (lj - lam))
+
+    assert nroots < kept, "only the roots between two poles"
+    roots = []
+    for a, b in zip(lj[:nroots], lj[1 : nroots + 1]):
+        d = 1e-12 * (b - a)
+        roots.append(brentq(secular, a + d, b - d, xtol=1e-15, rtol=1e-15))
+    return np.sqrt(roots)
 
 
 def reduced_dofs(ids, nodes, nmodes=0):
