@@ -57,9 +57,15 @@ def users_models():
     f = hz(la.eigvalsh(k, m))
     assert f[5] < 1e-3 * f[6], "a free body has exactly six rigid modes"
     models["free"] = (ids, xyz, k, m, [base, tip], f[6:])
-    # the fixed-interface modes once a model (the cut-offs only choose how many to keep)
-    return {s: (*v, im.fixed_interface(v[2], v[3], im.dof_index(v[0], v[4])))
-            for s, v in models.items()}
+    out = {}
+    for support, (ids_, xyz_, k_, m_, iface, f_full) in models.items():
+        # the fixed-interface modes once a model (the cut-offs only choose how many to keep)
+        fixed = im.fixed_interface(k_, m_, im.dof_index(ids_, iface))
+        i, _, _, tc = fixed
+        # constraint modes: the interior in equilibrium under unit interface motions
+        assert np.abs(k_[i] @ tc).max() < 1e-9 * np.abs(k_).max() * np.abs(tc).max()
+        out[support] = (ids_, xyz_, k_, m_, iface, f_full, fixed)
+    return out
 
 
 def _case(support, cutoff, missed=None):
