@@ -14,7 +14,8 @@ upper bound of the full model's, and each measured error is the second-order sha
 fixed-interface modes left out (im.truncation_estimate) to within 15%: nothing else is
 missing. The uniform bar shows in closed form that the criterion needs a cut-off far above
 the first frequency even for the simplest structure: the error of the mode just below F/2
-falls only like 1/(number of modes below F/2)."""
+falls only like 1/(number of modes below F/2), and 1e-3 holds at every cut-off only from
+F = 20.5 f1."""
 
 import pathlib
 import sys
@@ -138,12 +139,16 @@ def test_craig_bampton_error_of_a_uniform_bar():
     """The textbook case in closed form (im.bar_craig_bampton_exact): a uniform free bar
     in axial motion coupled at one end, every fixed-interface mode up to F kept. The FE
     bar's Craig-Bampton errors equal the closed form's to 2%, and the closed form says how
-    far the criterion is from a property of the reduction: the worst error below F/2 is
-    9.0e-3 at F = 2.4 f1, 2.4e-3 at 5 f1, 1.2e-3 at 10 f1 and first below 1e-3 near 15 f1
-    (7.8e-4 at 20 f1). It is the error of the mode just below F/2, about 1e-2 / n for the
-    n-th mode: with F twice its frequency, a mode keeps the share of the fixed-interface
-    modes above 2 f_n of its inertia, which falls like 1/n."""
+    far the criterion is from a property of the reduction. The worst error below F/2 is
+    that of the mode just below it: with F just above 2 f_n, mode n is 1.0e-2 / n off (9.0e-3
+    for n = 1), the inertia it shares with the fixed-interface modes above 2 f_n falling
+    like 1/n. So 1e-3 below F/2 holds at every cut-off only from F = 20.5 f1, ten modes
+    below F/2: 9.0e-3 at F = 2.4 f1, 2.4e-3 at 5 f1, 1.2e-3 at 10 f1, 7.8e-4 at 20 f1."""
     assert np.abs(im.bar_craig_bampton_exact(100000, 3) - [1, 2, 3]).max() < 1e-4
+    for n in (1, 2, 4, 8, 16):
+        kept = 2 * n  # F = 2 n + 0.4 (f1): fixed-interface modes at (j - 1/2) f1 <= F
+        e = im.bar_craig_bampton_exact(kept, n)[-1] / n - 1
+        assert 0.89e-2 < n * e < 1.01e-2, f"mode {n} with F = {2 * n + 0.4} f1: {e:.2e}"
     k, m = im.bar(400)
     fixed = im.fixed_interface(k, m, np.array([0]))
     w2 = la.eigvalsh(k, m)
@@ -152,7 +157,7 @@ def test_craig_bampton_error_of_a_uniform_bar():
     worst = {}
     for ratio in (2.4, 5.0, 10.0, 20.0):
         kc, mc, nm, _ = im.craig_bampton_upto(k, m, np.array([0]), ratio * f1, fixed)
-        kept = int(np.floor(ratio + 0.5))  # fixed-interface modes at (j - 1/2) f1
+        kept = int(np.floor(ratio + 0.5))
         assert nm == kept
         f_cb = np.sqrt(np.clip(la.eigvalsh(kc, mc)[1:], 0.0, None)) / (2 * np.pi)
         n = int((f_cb < ratio * f1 / 2).sum())
