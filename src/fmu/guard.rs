@@ -146,7 +146,8 @@ impl StepGuard {
     /// is nonzero; `loads_small`: every load is below [`StepGuard::load_limit`]): the
     /// first non-finite value, named for the master, or `None` when every checked value
     /// is finite, in which case the step is accepted and its state becomes the saved one
-    /// for the next step.
+    /// for the next step. Inlined into the model's step; the full check is out of line.
+    #[inline]
     pub fn check(
         &mut self,
         s: &dyn Solver,

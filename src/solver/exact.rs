@@ -77,10 +77,10 @@ struct Undo {
 }
 
 impl Undo {
-    /// Keep the held load's values (and with `rates` its rates) once, before they first
-    /// change in an open step: `set_loads` changes the values, `set_load_rates` both.
+    /// Keep the held load's values and rates once, before they first change in an open
+    /// step: `set_load_rates` changes both (`set_loads` moves the values itself).
     #[inline]
-    fn keep(&mut self, held: &Loads, rates: bool) {
+    fn keep(&mut self, held: &Loads) {
         if !self.open {
             return;
         }
@@ -89,7 +89,7 @@ impl Undo {
             self.held.t_set = held.t_set;
             self.kept_values = true;
         }
-        if rates && !self.kept_rates {
+        if !self.kept_rates {
             self.held.rates.copy_from_slice(&held.rates);
             self.kept_rates = true;
         }
@@ -256,12 +256,24 @@ impl Solver for Exact {
     }
 
     fn set_loads(&mut self, loads: &[f64]) -> Result<(), SolverError> {
-        self.undo.keep(&self.io.held, false);
-        self.io.set_loads(loads, self.time)
+        // `set_loads` writes every value: the held values move to the undo buffer
+        // instead of being copied there, and come back if the loads are refused.
+        let moved = self.undo.open && !self.undo.kept_values;
+        if moved {
+            std::mem::swap(&mut self.undo.held.values, &mut self.io.held.values);
+            self.undo.held.t_set = self.io.held.t_set;
+            self.undo.kept_values = true;
+        }
+        let set = self.io.set_loads(loads, self.time);
+        if moved && set.is_err() {
+            std::mem::swap(&mut self.undo.held.values, &mut self.io.held.values);
+            self.undo.kept_values = false;
+        }
+        set
     }
 
     fn set_load_rates(&mut self, rates: &[f64]) -> Result<(), SolverError> {
-        self.undo.keep(&self.io.held, true);
+        self.undo.keep(&self.io.held);
         self.io.set_rates(rates, self.time)
     }
 
@@ -462,6 +474,11 @@ mod tests {
             assert!(s.begin_undoable());
             if k % 3 == 0 {
                 s.set_load_rates(&r).unwrap();
+            }
+            // A refused load changes nothing, kept or not.
+            assert!(s.set_loads(&[f64::NAN; 6]).is_err());
+            if k % 3 != 0 {
+                assert_eq!(s.state(), before, "step {k}");
             }
             s.set_loads(&[0.0, 1e300, 0.0, 0.0, 0.0, 0.0]).unwrap();
             s.step(h).unwrap();
