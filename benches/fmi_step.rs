@@ -25,7 +25,9 @@ const ROUNDS: usize = 5;
 
 /// One run of `steps` cycles of the exact solver on `scene` (the bench's load sequence
 /// on tip fy, then `read` on the outputs), in ns per cycle. Generic in `read` so that
-/// the call is inlined and the timing holds no indirect call.
+/// the call is inlined and the timing holds no indirect call; never inlined itself, so
+/// that callgrind counts it as one function (see `FXBODY_BENCH_STEPS` below).
+#[inline(never)]
 fn time_direct(
     scene: &Scene,
     steps: usize,
@@ -64,7 +66,15 @@ fn main() {
         std::fs::create_dir_all(path.parent().unwrap()).unwrap();
         std::fs::write(path, data).unwrap();
     }
-    let (steps, h, force) = (1_000_000usize, 2e-4, 1.0);
+    // FXBODY_BENCH_STEPS: fewer steps, for counting instructions under callgrind: the
+    // difference between two step counts, per step, of `time_direct` (inclusive) and of
+    // the C driver run on the kept folder (FXBODY_BENCH_KEEP) gives the solver's and the
+    // FMI layer's instructions per step.
+    let steps = std::env::var("FXBODY_BENCH_STEPS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(1_000_000usize);
+    let (h, force) = (2e-4, 1.0);
     let vr = |n: &str| {
         p.table
             .vars

@@ -136,7 +136,10 @@ pub type Outcome = Result<fmi2Status, FmiError>;
 
 /// Run an export's body on the instance behind `c`: refuse NULL, check the call is legal
 /// in the current state (`mask`; in Error, also in the state before the error, whose
-/// values the model holds), catch panics (fmi2Fatal), log errors.
+/// values the model holds), catch panics (fmi2Fatal), log errors. Inlined into every
+/// export: the success path is a null test, a mask test, one flag test for `logCalls`
+/// and the panic barrier; refusing, logging and the panic's report are out of line.
+#[inline(always)]
 pub fn enter(
     c: fmi2Component,
     func: &str,
@@ -152,50 +155,75 @@ pub fn enter(
         // fmi2Instantiate (Box::into_raw) and that fmi2FreeInstance has not yet freed;
         // FMI forbids concurrent calls on one instance, so this is the only reference.
         let inst = unsafe { &mut *ptr };
-        if mask & inst.state.bit() == 0 {
-            let msg = format!("{func}: illegal call in state {:?}", inst.state);
-            inst.log.send(fmi2Error, LOG_ERROR, &msg);
-            inst.fail();
-            return fmi2Error;
+        // Outside Error the phase is the state itself: one test.
+        if mask & inst.state.bit() == 0
+            || (inst.state == FmiState::Error && mask & inst.before_error.bit() == 0)
+        {
+            return illegal(inst, func, mask);
         }
-        if mask & inst.phase().bit() == 0 {
-            let msg = format!(
-                "{func}: illegal call in state Error entered from state {:?}, where the \
-                 call is not allowed (the model holds that state's values)",
-                inst.before_error
-            );
-            inst.log.send(fmi2Error, LOG_ERROR, &msg);
-            return fmi2Error;
-        }
-        if inst.log.on(LOG_CALLS) {
+        if inst.log.enabled[LOG_CALLS] {
             inst.log.send(fmi2OK, LOG_CALLS, func);
         }
         catch_unwind(AssertUnwindSafe(|| body(inst)))
     };
-    // SAFETY: as above; the borrow inside the closure has ended.
-    let inst = unsafe { &mut *ptr };
     match result {
         Ok(Ok(status)) => status,
         Ok(Err(error)) => {
-            inst.log
-                .send(fmi2Error, LOG_ERROR, &format!("{func}: {error}"));
-            inst.fail();
-            fmi2Error
+            // SAFETY: as above; the borrow inside the closure has ended.
+            failed(unsafe { &mut *ptr }, func, error)
         }
         Err(panic) => {
-            let what = panic_text(&*panic);
-            inst.state = FmiState::Fatal;
-            // Logging itself must not unwind out of the library.
-            let _ = catch_unwind(AssertUnwindSafe(|| {
-                inst.log.send(
-                    fmi2Fatal,
-                    LOG_ERROR,
-                    &format!("{func}: internal error (panic): {what}"),
-                )
-            }));
-            fmi2Fatal
+            // SAFETY: as above; the borrow inside the closure has ended.
+            panicked(unsafe { &mut *ptr }, func, panic)
         }
     }
+}
+
+/// A call not allowed in the instance's state: logged; outside Error the instance
+/// enters Error.
+#[cold]
+#[inline(never)]
+fn illegal(inst: &mut Instance, func: &str, mask: u16) -> fmi2Status {
+    if mask & inst.state.bit() == 0 {
+        let msg = format!("{func}: illegal call in state {:?}", inst.state);
+        inst.log.send(fmi2Error, LOG_ERROR, &msg);
+        inst.fail();
+    } else {
+        let msg = format!(
+            "{func}: illegal call in state Error entered from state {:?}, where the \
+             call is not allowed (the model holds that state's values)",
+            inst.before_error
+        );
+        inst.log.send(fmi2Error, LOG_ERROR, &msg);
+    }
+    fmi2Error
+}
+
+/// A refused call: the reason logged, the instance in Error.
+#[cold]
+#[inline(never)]
+fn failed(inst: &mut Instance, func: &str, error: FmiError) -> fmi2Status {
+    inst.log
+        .send(fmi2Error, LOG_ERROR, &format!("{func}: {error}"));
+    inst.fail();
+    fmi2Error
+}
+
+/// A caught panic: the instance is Fatal for good.
+#[cold]
+#[inline(never)]
+fn panicked(inst: &mut Instance, func: &str, panic: Box<dyn std::any::Any + Send>) -> fmi2Status {
+    let what = panic_text(&*panic);
+    inst.state = FmiState::Fatal;
+    // Logging itself must not unwind out of the library.
+    let _ = catch_unwind(AssertUnwindSafe(|| {
+        inst.log.send(
+            fmi2Fatal,
+            LOG_ERROR,
+            &format!("{func}: internal error (panic): {what}"),
+        )
+    }));
+    fmi2Fatal
 }
 
 /// The message of a caught panic.

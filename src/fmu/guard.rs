@@ -2,15 +2,18 @@
 //! solver state or in an output a master can read is refused, and the instance keeps its
 //! state from before the step ("right or loud").
 //!
-//! The guard holds two state buffers and copies the solver state once per step: after
-//! the step, into the second buffer, which the check then reads. An accepted step swaps
-//! the two (double buffering): the state after step k is the saved state before step k+1,
-//! so no save runs before a step unless something else changed the solver in between
-//! (building it, restoring an FMU state, passing loads to read a truncated scene's
-//! outputs), which the model reports with [`StepGuard::forget`]. The buffers are reused:
-//! no allocation once each has held one state. After the step the guard checks the
-//! solver state (it holds everything the future depends on) and the outputs: node
-//! positions, velocities and both energies. The outputs are checked as well as the state because
+//! A method that steps out of place ([`Solver::begin_undoable`]: the exact method) keeps
+//! the state before the step itself: the guard copies nothing, takes the sum of squares the step computed as it
+//! wrote its state ([`Solver::stepped_squares`]) for its bound test, and a refused step is the solver's
+//! [`Solver::undo`]. For the other methods the guard holds two state buffers and copies
+//! the solver state once per step: after the step, into the second buffer, which the
+//! check then reads. An accepted step swaps the two (double buffering): the state after
+//! step k is the saved state before step k+1, so no save runs before a step unless
+//! something else changed the solver in between (building it, restoring an FMU state,
+//! passing loads to read a truncated scene's outputs), which the model reports with
+//! [`StepGuard::forget`]. The buffers are reused: no allocation once each has held one
+//! state. After the step the guard checks the solver state (it holds everything the
+//! future depends on) and the outputs: node positions, velocities and both energies. The outputs are checked as well as the state because
 //! a finite state does not make them finite: they are sums of products of the state
 //! with the body's matrices (and, for a truncated body, with the loads themselves), which
 //! can overflow. On failure the saved state is put back and the message names the first
@@ -30,10 +33,14 @@ pub struct StepGuard {
     /// `saved` equals the solver's current state: the last step was accepted (or rolled
     /// back) and nothing has changed the solver since.
     saved_is_current: bool,
+    /// The running step is undoable by the solver itself: nothing was saved.
+    undoable: bool,
     out: Vec<f64>,
     /// Below this magnitude of every state entry and input, every checked output is
     /// certainly finite ([`output_bound`]): the outputs need not be computed.
     bound: f64,
+    /// Below this magnitude of every load, their sum of squares is below `bound^2`.
+    load_limit: f64,
 }
 
 /// The largest magnitude `s` of the state entries and inputs under which every output
@@ -77,8 +84,11 @@ impl StepGuard {
     /// A guard for the scene's solver (one row of outputs per exposed node).
     pub fn new(scene: &Scene) -> StepGuard {
         let nodes = scene.nodes.len();
+        let bound = output_bound(scene);
         StepGuard {
-            bound: output_bound(scene),
+            bound,
+            // 0.99: n limit^2 stays below bound^2 whatever the roundings.
+            load_limit: 0.99 * bound / ((6 * nodes).max(1) as f64).sqrt(),
             saved: State {
                 method: Method::Exact,
                 data: Vec::new(),
@@ -88,8 +98,17 @@ impl StepGuard {
                 data: Vec::new(),
             },
             saved_is_current: false,
+            undoable: false,
             out: vec![0.0; 3 * nodes],
         }
+    }
+
+    /// The magnitude under which every load is small enough for the fast check: a model
+    /// that knows all its loads are below it (and no rate is on) tells
+    /// [`StepGuard::check`] so, which then does not read them.
+    #[inline]
+    pub fn load_limit(&self) -> f64 {
+        self.load_limit
     }
 
     /// The solver was changed outside a step (built, restored, given loads): the next
@@ -99,43 +118,65 @@ impl StepGuard {
         self.saved_is_current = false;
     }
 
-    /// Make sure the solver's state before a step is saved: a copy only when something
-    /// changed the solver since the last accepted step (see the module notes).
+    /// Before a step (and before the loads it passes): open an undoable step in the
+    /// solver, or where the method cannot, make sure its state is saved: a copy only when
+    /// something changed the solver since the last accepted step (see the module notes).
     #[inline]
-    pub fn save(&mut self, s: &dyn Solver) {
-        if !self.saved_is_current {
+    pub fn begin(&mut self, s: &mut dyn Solver) {
+        self.undoable = s.begin_undoable();
+        if !self.undoable && !self.saved_is_current {
             s.state_into(&mut self.saved);
             self.saved_is_current = true;
         }
     }
 
-    /// Put back the state saved by [`StepGuard::save`].
+    /// Put back the state from before the step begun by [`StepGuard::begin`].
     pub fn rollback(&mut self, s: &mut dyn Solver) -> Result<(), SolverError> {
+        if self.undoable {
+            s.undo();
+            self.saved_is_current = false;
+            return Ok(());
+        }
         let restored = s.set_state(&self.saved);
         self.saved_is_current = restored.is_ok();
         restored
     }
 
     /// Check the step of `h` just taken under `loads` and `rates` (`rates_on`: some rate
-    /// is nonzero): the first non-finite value, named for the master, or `None` when
-    /// every checked value is finite, in which case the step is accepted and its state
-    /// becomes the saved one for the next step.
+    /// is nonzero; `loads_small`: every load is below [`StepGuard::load_limit`]): the
+    /// first non-finite value, named for the master, or `None` when every checked value
+    /// is finite, in which case the step is accepted and its state becomes the saved one
+    /// for the next step. Inlined into the model's step; the full check is out of line.
+    #[inline]
     pub fn check(
         &mut self,
         s: &dyn Solver,
         table: &VarTable,
         (loads, rates, rates_on): (&[f64], &[f64], bool),
+        loads_small: bool,
         h: f64,
     ) -> Option<String> {
-        s.state_into(&mut self.after);
         let b = self.bound;
-        let bad =
-            if inputs_below(loads, rates, rates_on, h, b) && squares_below(&self.after.data, b) {
-                None
-            } else {
-                self.first_non_finite(s, table)
-            };
-        if bad.is_none() {
+        let state_below = if self.undoable {
+            // The rest of the state is the held load part: the inputs tested here.
+            s.stepped_squares() < b * b
+        } else {
+            s.state_into(&mut self.after);
+            squares_below(&self.after.data, b)
+        };
+        let inputs_ok = (loads_small && !rates_on) || inputs_below(loads, rates, rates_on, h, b);
+        if state_below && inputs_ok {
+            if !self.undoable {
+                std::mem::swap(&mut self.saved, &mut self.after);
+                self.saved_is_current = true;
+            }
+            return None;
+        }
+        if self.undoable {
+            s.state_into(&mut self.after);
+        }
+        let bad = self.first_non_finite(s, table);
+        if bad.is_none() && !self.undoable {
             std::mem::swap(&mut self.saved, &mut self.after);
             self.saved_is_current = true;
         }
@@ -198,23 +239,31 @@ impl StepGuard {
 /// Whether every entry of `data` is certainly below `bound` in magnitude: the sum of
 /// their squares is below `bound^2` (NaN or overflow to infinity compare false). Stricter
 /// than testing each entry by at most a factor `sqrt(data.len())`, which only sends a
-/// step that is already near the bound to the full check. Eight accumulators, read eight
-/// entries at a time, so that the loop vectorises into independent sums (no long chain of
-/// dependent additions): the whole state is read on every step.
+/// step that is already near the bound to the full check.
 #[inline]
 fn squares_below(data: &[f64], bound: f64) -> bool {
-    let mut acc = [0.0f64; 8];
-    let mut chunks = data.chunks_exact(8);
+    sum_squares(data) < bound * bound
+}
+
+/// The sum of squares behind [`squares_below`] (NaN if an entry is NaN, infinite if an
+/// entry or the sum overflows). Four accumulators, read four entries at a time, so that
+/// the loop vectorises into independent sums (no long chain of dependent additions) and
+/// the short vectors of a step (20 modes, 12 loads) leave no remainder.
+#[inline]
+fn sum_squares(data: &[f64]) -> f64 {
+    let mut acc = [0.0f64; 4];
+    let mut chunks = data.chunks_exact(4);
     for c in &mut chunks {
-        for k in 0..8 {
+        for k in 0..4 {
             acc[k] += c[k] * c[k];
         }
     }
-    let mut sum: f64 = acc.iter().sum();
+    // Neighbours first: lanes (0, 1) and (2, 3) stay two vector registers.
+    let mut sum = (acc[0] + acc[2]) + (acc[1] + acc[3]);
     for x in chunks.remainder() {
         sum += x * x;
     }
-    sum < bound * bound
+    sum
 }
 
 /// Whether any rate is nonzero (`-0.0` counts as zero, as `r != 0.0` does): an OR of the

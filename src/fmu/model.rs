@@ -42,6 +42,13 @@ pub struct Model {
     dirty: bool,
     /// Loads changed since they were last passed to the solver.
     loads_dirty: bool,
+    /// How many loads are at or above the guard's per-load limit
+    /// ([`StepGuard::load_limit`]), kept as they are set: with none and no rate on, the
+    /// step guard knows the inputs are below its bound without reading them.
+    large_loads: usize,
+    /// An input rate was written since the rates were last cleared: only then can one
+    /// be nonzero (read by [`any_nonzero`] before a step).
+    rates_written: bool,
     /// The last step ran with nonzero input rates (the solver must be told they ended).
     rates_applied: bool,
     pos: Vec<f64>,
@@ -87,7 +94,9 @@ impl Model {
             solver: None,
             dirty: true,
             loads_dirty: true,
+            large_loads: 0,
             rates_applied: false,
+            rates_written: false,
             pos: vec![0.0; 3 * m],
             vel: vec![0.0; 3 * m],
             acc: vec![0.0; 3 * m],
@@ -180,6 +189,13 @@ impl Model {
 
     /// Whether [`Model::set_real`] would accept `v` for `vr`, without changing anything.
     pub fn check_real(&self, vr: u32, v: f64, phase: Phase) -> Result<(), ModelError> {
+        self.checked_real(vr, v, phase).map(|_| ())
+    }
+
+    /// [`Model::check_real`], giving the variable's binding for [`Model::apply_real`] so
+    /// that the table is read once per value.
+    #[inline(always)]
+    fn checked_real(&self, vr: u32, v: f64, phase: Phase) -> Result<Kind, ModelError> {
         // No clone of the variable: this runs on every fmi2SetReal and must not allocate.
         let var = self.var(vr)?;
         if var.is_integer() {
@@ -203,36 +219,48 @@ impl Model {
         if var.kind == Kind::DampingRatio && v < 0.0 {
             return Err(ModelError::DampingRatio(v));
         }
-        Ok(())
+        Ok(var.kind)
     }
 
     /// Set Real variables: all or none (a refused value leaves every variable as it
     /// was, so a master's error does not half-apply a set of loads).
+    #[inline]
     pub fn set_reals(&mut self, vrs: &[u32], vals: &[f64], phase: Phase) -> Result<(), ModelError> {
+        // One value (a master setting one input): all or none holds already.
+        if let ([r], [v]) = (vrs, vals) {
+            return self.set_real(*r, *v, phase);
+        }
+        self.set_several(vrs, vals, phase)
+    }
+
+    /// [`Model::set_reals`] for any number of values: all checked, then all stored.
+    #[inline(never)]
+    fn set_several(&mut self, vrs: &[u32], vals: &[f64], phase: Phase) -> Result<(), ModelError> {
         for (&r, &v) in vrs.iter().zip(vals) {
             self.check_real(r, v, phase)?;
         }
         // Every value passed the check: each is checked once per call, not again here.
         for (&r, &v) in vrs.iter().zip(vals) {
-            self.apply_real(r, v);
+            if let Some(var) = self.table.get(r) {
+                self.apply_real(var.kind, v);
+            }
         }
         Ok(())
     }
 
     /// Set a Real variable.
+    #[inline]
     pub fn set_real(&mut self, vr: u32, v: f64, phase: Phase) -> Result<(), ModelError> {
-        self.check_real(vr, v, phase)?;
-        self.apply_real(vr, v);
+        let kind = self.checked_real(vr, v, phase)?;
+        self.apply_real(kind, v);
         Ok(())
     }
 
-    /// Store `v` in the Real variable `vr`, which [`Model::check_real`] accepted.
-    #[inline]
-    fn apply_real(&mut self, vr: u32, v: f64) {
-        let Some(var) = self.table.get(vr) else {
-            return;
-        };
-        match var.kind {
+    /// Store `v` in the Real variable bound to `kind`, which [`Model::check_real`]
+    /// accepted.
+    #[inline(always)]
+    fn apply_real(&mut self, kind: Kind, v: f64) {
+        match kind {
             Kind::RhoInf => {
                 self.opts.rho_inf = v;
                 self.dirty = true;
@@ -256,6 +284,10 @@ impl Model {
             Kind::Load { node, comp } => {
                 let slot = &mut self.loads[6 * node + comp];
                 if slot.to_bits() != v.to_bits() {
+                    let limit = self.guard.load_limit();
+                    // Loads are finite (checked): `>=` is the complement of `<`.
+                    self.large_loads = self.large_loads + usize::from(v.abs() >= limit)
+                        - usize::from(slot.abs() >= limit);
                     *slot = v;
                     self.loads_dirty = true;
                 }
@@ -339,6 +371,7 @@ impl Model {
                 let slot = self.input_rate_slot(r, o, v)?;
                 if pass == 1 {
                     self.rates[slot] = v;
+                    self.rates_written = true;
                 }
             }
         }
@@ -371,11 +404,14 @@ impl Model {
     pub fn set_input_rate(&mut self, vr: u32, order: i32, v: f64) -> Result<(), ModelError> {
         let slot = self.input_rate_slot(vr, order, v)?;
         self.rates[slot] = v;
+        self.rates_written = true;
         Ok(())
     }
 
     /// One communication step from `t` to `t + h`. `Ok(Some(text))` is a completed step
-    /// with a warning for the master (fmi2Warning).
+    /// with a warning for the master (fmi2Warning). Inlined into fmi2DoStep, its one
+    /// caller on the step path; refusing is out of line.
+    #[inline]
     pub fn do_step(&mut self, t: f64, h: f64) -> Result<Option<String>, ModelError> {
         check_step_times(t, h, self.time, self.start_time, self.stop_time)?;
         self.ensure_solver()?;
@@ -383,10 +419,11 @@ impl Model {
             return Err(ModelError::NoSolver);
         };
         // The state before the step, put back if the step fails or leaves a non-finite
-        // number anywhere (guard.rs): a refused step changes nothing. After an accepted
-        // step the guard already holds it, and this copies nothing.
-        self.guard.save(s.as_ref());
-        let rates_on = any_nonzero(&self.rates);
+        // number anywhere (guard.rs): a refused step changes nothing. The exact method
+        // keeps it itself (out-of-place stepping); for the others, after an accepted step
+        // the guard already holds it, and this copies nothing.
+        self.guard.begin(s.as_mut());
+        let rates_on = self.rates_written && any_nonzero(&self.rates);
         let stepped = step_solver(
             s.as_mut(),
             h,
@@ -402,6 +439,7 @@ impl Model {
                     s.as_ref(),
                     &self.table,
                     (&self.loads, &self.rates, rates_on),
+                    self.large_loads == 0,
                     h,
                 )
                 .map(|what| {
@@ -430,6 +468,8 @@ impl Model {
         if rates_on {
             self.rates.iter_mut().for_each(|r| *r = 0.0);
         }
+        // Zero now, whether cleared here or all zero already.
+        self.rates_written = false;
         let warning = s.take_warning();
         // Adopt the master's time so that round-off does not accumulate against it.
         self.time = t + h;
@@ -543,7 +583,10 @@ impl Model {
         self.stop_time = snap.stop_time;
         self.time = snap.time;
         self.loads.copy_from_slice(&snap.loads);
+        let limit = self.guard.load_limit();
+        self.large_loads = self.loads.iter().filter(|l| l.abs() >= limit).count();
         self.rates.copy_from_slice(&snap.rates);
+        self.rates_written = true;
         self.loads_dirty = true;
         self.rates_applied = true;
         match &snap.solver {

@@ -38,7 +38,36 @@ pub fn time_tolerance(a: f64, b: f64, start: f64, h: f64) -> f64 {
 /// finite and positive, `t` the FMU's current `time` (within [`time_tolerance`] for a run
 /// that started at `start`), and `t + h` not past `stop` (within the same tolerance,
 /// whatever the sign of the times).
+///
+/// The usual step passes on comparisons alone: `h` finite and positive, `t` finite and
+/// equal to `time` (distance 0, within any tolerance), and no stop or a finite `t + h` at
+/// or before it. Only a step that fails one of these computes the tolerances, so the
+/// answer is the same as computing them every time.
+#[inline]
 pub fn check_step_times(
+    t: f64,
+    h: f64,
+    time: f64,
+    start: f64,
+    stop: Option<f64>,
+) -> Result<(), TimeError> {
+    // Comparisons only (a NaN fails each): `h < INFINITY` with `h > 0` and
+    // `|t| < INFINITY` are finiteness; `t + h` lies above the finite `t`.
+    let end = t + h;
+    let stop_ok = match stop {
+        None => true,
+        Some(stop) => end <= stop && end < f64::INFINITY,
+    };
+    if h > 0.0 && h < f64::INFINITY && t == time && t.abs() < f64::INFINITY && stop_ok {
+        return Ok(());
+    }
+    check_with_tolerance(t, h, time, start, stop)
+}
+
+/// [`check_step_times`] with the tolerances computed.
+#[cold]
+#[inline(never)]
+fn check_with_tolerance(
     t: f64,
     h: f64,
     time: f64,
@@ -60,4 +89,56 @@ pub fn check_step_times(
         return Err(TimeError::PastStop { end, stop });
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{check_step_times, check_with_tolerance};
+
+    /// The comparisons-only path gives the answer of the full computation with the
+    /// tolerances (the reference) on every combination of ordinary and extreme times:
+    /// equal and one ulp apart, zero of both signs, huge, infinite and NaN values, with
+    /// and without a stop time at, just before and just after the step's end.
+    #[test]
+    fn the_fast_path_agrees_with_the_tolerances() {
+        let up = |x: f64| f64::from_bits(x.to_bits() + 1);
+        let mut times = vec![0.0, -0.0, 1e-3, -3.0, 1e9, 1e308, f64::MAX, -f64::MAX];
+        times.extend([
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+            up(1e9),
+            up(1e-3),
+        ]);
+        let steps = [
+            1e-3,
+            5e-324,
+            1e308,
+            f64::MAX,
+            0.0,
+            -1e-3,
+            f64::INFINITY,
+            f64::NAN,
+        ];
+        let (mut cases, mut accepted) = (0, 0);
+        for &time in &times {
+            for &t in &times {
+                for &h in &steps {
+                    let end = t + h;
+                    let stops = [None, Some(end), Some(up(end)), Some(end - 1e-3), Some(1e9)];
+                    for stop in stops {
+                        let fast = check_step_times(t, h, time, 0.0, stop).is_ok();
+                        let full = check_with_tolerance(t, h, time, 0.0, stop).is_ok();
+                        assert_eq!(fast, full, "t {t}, h {h}, time {time}, stop {stop:?}");
+                        cases += 1;
+                        accepted += usize::from(full);
+                    }
+                }
+            }
+        }
+        assert!(
+            accepted > 100 && cases - accepted > 100,
+            "{accepted} of {cases}"
+        );
+    }
 }

@@ -220,6 +220,30 @@ pub trait Solver: Send {
     fn state_into(&self, out: &mut State) {
         *out = self.state();
     }
+    /// Out-of-place stepping, for the FMU's step guard: open a step that
+    /// [`Solver::undo`] can take back without any copy of the state. Until `undo`, the
+    /// next `begin_undoable` or `set_state`, the method keeps what it overwrites: the
+    /// held loads and rates before the first `set_loads` or `set_load_rates`, and the
+    /// state before `step` (a step reads one buffer and writes the other). `false`
+    /// where the method cannot: the caller then saves the state itself
+    /// ([`Solver::state_into`]). The default is `false`.
+    fn begin_undoable(&mut self) -> bool {
+        false
+    }
+    /// Put back, bit for bit, the state at the last [`Solver::begin_undoable`] that
+    /// returned `true` (loads and rates passed since, and the step taken), and close it.
+    /// Nothing to do when none is open.
+    fn undo(&mut self) {}
+    /// The sum of squares of every number the last step wrote (the time and, for the
+    /// exact method, the modal amplitudes and velocities), computed by the step as it
+    /// writes them: NaN or infinite when one is not finite or the sum overflows. The
+    /// step guard's bound test where no copy of the state is made; everything else in
+    /// the state is the held load part, which equals the loads and rates the caller
+    /// passed. Meaningful for a method whose [`Solver::begin_undoable`] returns `true`;
+    /// the default, infinity, sends every step to the full check.
+    fn stepped_squares(&self) -> f64 {
+        f64::INFINITY
+    }
     /// A warning the last step raised (for example a spin rate approaching the first
     /// local mode's frequency), taken once: the FMU returns fmi2Warning with it.
     fn take_warning(&mut self) -> Option<String> {

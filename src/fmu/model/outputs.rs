@@ -6,7 +6,9 @@ use super::{Model, ModelError};
 use crate::fmu::vars::Kind;
 
 impl Model {
-    /// Get Real values for `vrs` into `out` (same length). Needs a solver.
+    /// Get Real values for `vrs` into `out` (same length). Needs a solver. Inlined into
+    /// fmi2GetReal, its one caller on the step path.
+    #[inline]
     pub fn get_reals(&mut self, vrs: &[u32], out: &mut [f64]) -> Result<(), ModelError> {
         self.ensure_solver()?;
         // A truncated scene's positions depend on the same-instant loads (residual
