@@ -204,6 +204,46 @@ pub struct Imported {
     pub report: Report,
 }
 
+/// Wall time of the import's stages, printed to stderr when the environment variable
+/// `FXBODY_IMPORT_TIMES` is set (to profile a large import; off by default).
+struct Stages {
+    start: Option<std::time::Instant>,
+    last: f64,
+    lines: Vec<String>,
+}
+
+impl Stages {
+    fn new() -> Stages {
+        let on = std::env::var_os("FXBODY_IMPORT_TIMES").is_some();
+        Stages {
+            start: on.then(std::time::Instant::now),
+            last: 0.0,
+            lines: Vec::new(),
+        }
+    }
+
+    /// The stage `name` ended now.
+    fn done(&mut self, name: &str) {
+        if let Some(t) = self.start {
+            let now = t.elapsed().as_secs_f64();
+            self.lines
+                .push(format!("import stage {name:<28} {:8.3} s", now - self.last));
+            self.last = now;
+        }
+    }
+}
+
+impl Drop for Stages {
+    fn drop(&mut self) {
+        if self.start.is_some() {
+            for l in &self.lines {
+                eprintln!("{l}");
+            }
+            eprintln!("import stage {:<28} {:8.3} s", "total", self.last);
+        }
+    }
+}
+
 /// Build a body from K and M (see the module text). `coords_file` names the coordinates'
 /// file in messages.
 pub fn build(
@@ -231,6 +271,7 @@ pub fn build(
         )));
     }
     let mut report = Report::default();
+    let mut stages = Stages::new();
     let mut model = dofs::Model::from_matrices(k, m)?;
     let coords: Option<BTreeMap<i64, [f64; 3]>> = coords.map(|c| {
         let f = opts.units.map_or(1.0, |u| u.length);
@@ -242,6 +283,7 @@ pub fn build(
         model.convert(u);
     }
     let reduced = dofs::reduce(model, &mut report)?;
+    stages.done("DOFs, condensation");
     let grid_ids = reduced.grid_ids();
     let node_ids = match &opts.nodes {
         None => grid_ids.clone(),
@@ -271,15 +313,20 @@ pub fn build(
         Some(c) => Some(rigid::MassProps::of(&reduced, c)?),
         None => None,
     };
+    stages.done("mass properties");
     let eig = modes::Eigen::solve(&reduced)?;
+    stages.done("Cholesky of M, L^-1 K L^-T");
     let free = modes::classify(&reduced, props.as_ref(), opts.support, &mut report)?;
     let rigid = if free { props.as_ref() } else { None };
-    let (lambda, phi) = modes::elastic(&reduced, &eig, rigid)?;
+    let (lambda, phi) = modes::elastic(&reduced, &eig, rigid, &mut |s| stages.done(s))?;
     drop(eig);
     let basis = modes::local_basis(&reduced, &lambda, &phi, opts.fmax, &node_ids, &mut report)?;
+    stages.done("cut, static modes, scaling");
     let file = assemble::fxb(&reduced, &basis, rigid, &node_ids, opts, &mut report);
+    stages.done("assembly (M_C, K_C, checks)");
     crate::body::Body::from_fxb(&file, "the imported body")
         .map_err(|e| ImportError::Invalid(e.to_string()))?;
+    stages.done("body check");
     if let Some(p) = &props {
         report.mass_properties(p);
     }

@@ -134,11 +134,12 @@ pub fn classify(
 /// The elastic eigenpairs, ascending: eigenvalues and M-orthonormal modes on the a-set.
 /// For a free body (`props` given) the rigid pairs are removed and every mode is
 /// M-orthogonal to the rigid motions. Refuses a negative K, a singular blocked K and a
-/// mechanism.
+/// mechanism. `stage` is told when each step ends (the import's profile).
 pub fn elastic(
     model: &Reduced,
     eig: &Eigen,
     props: Option<&MassProps>,
+    stage: &mut dyn FnMut(&str),
 ) -> Result<(Vec<f64>, DMatrix<f64>), ImportError> {
     let n = eig.a.nrows();
     let mut a = eig.a.clone();
@@ -156,8 +157,10 @@ pub fn elastic(
         a += (&u * rb_inv * u.transpose()) * sigma;
         a = (&a + a.transpose()) * 0.5;
     }
+    stage("rigid shift");
     let (values, vectors) = dense::sym_eigen(&a)
         .ok_or_else(|| ImportError::Invalid("the eigen-solver did not converge".into()))?;
+    stage("eigen-solve");
     let nel = if props.is_some() {
         n.saturating_sub(6)
     } else {
@@ -192,6 +195,7 @@ pub fn elastic(
         let c = rb_inv * dense::tr_mul(&(&model.m * &p.r), &phi);
         phi -= &p.r * c;
     }
+    stage("back-solve L^-T, projection");
     Ok((lambda, phi))
 }
 
