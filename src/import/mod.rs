@@ -32,6 +32,7 @@ pub mod dofs;
 pub mod modes;
 pub mod report;
 pub mod rigid;
+pub mod tridiag;
 pub mod units;
 
 pub use report::Report;
@@ -318,9 +319,10 @@ pub fn build(
     stages.done("Cholesky of M, L^-1 K L^-T");
     let free = modes::classify(&reduced, props.as_ref(), opts.support, &mut report)?;
     let rigid = if free { props.as_ref() } else { None };
-    let (lambda, phi) = modes::elastic(&reduced, &eig, rigid, &mut |s| stages.done(s))?;
+    let cut = opts.fmax.map(modes::cut_eigenvalue);
+    let el = modes::elastic(&reduced, &eig, rigid, cut, &mut |s| stages.done(s))?;
+    let basis = modes::local_basis(&reduced, &el, &eig.l, rigid, &node_ids, &mut report)?;
     drop(eig);
-    let basis = modes::local_basis(&reduced, &lambda, &phi, opts.fmax, &node_ids, &mut report)?;
     stages.done("cut, static modes, scaling");
     let file = assemble::fxb(&reduced, &basis, rigid, &node_ids, opts, &mut report);
     stages.done("assembly (M_C, K_C, checks)");
