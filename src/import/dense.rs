@@ -85,7 +85,7 @@ pub fn tridiagonalize(a: &DMatrix<f64>) -> Option<Reduction> {
         return None;
     }
     let scale = unit_scale(a)?;
-    let mut trid = Mat::from_fn(n, n, |i, j| a[(i, j)] * scale);
+    let mut trid = Mat::from_fn(n, n, |i, j| a[(i.max(j), i.min(j))] * scale);
     let bs = faer::linalg::qr::no_pivoting::factor::recommended_blocksize::<f64>(n, n);
     let mut householder = Mat::<f64>::zeros(bs, n - 1);
     let params = <TridiagParams as Auto<f64>>::auto();

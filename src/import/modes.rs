@@ -164,7 +164,7 @@ pub fn elastic(
     let mut a = eig.a.clone();
     if let Some(p) = props {
         // Shift the rigid pairs to sigma, above every elastic eigenvalue (|A|_inf bounds
-        // them): A + sigma U Rb^-1 U^T with U = L^T R. No larger: the solver's absolute
+        // them): A + sigma U Rb^-1 U^T with U = L^T R (symmetric: Rb is). No larger: the solver's absolute
         // error grows with the shifted matrix's norm (with 2 |A|_F, 13 times the largest
         // eigenvalue of a 2040-DOF grillage, it was that much larger).
         let sigma = 2.0 * dense::inf_norm(&a) + f64::MIN_POSITIVE;
@@ -173,8 +173,13 @@ pub fn elastic(
             p.rb.clone()
                 .try_inverse()
                 .ok_or_else(|| ImportError::NoModes("the rigid mass R^T M R is singular".into()))?;
-        a += (&u * rb_inv * u.transpose()) * sigma;
-        a = (&a + a.transpose()) * 0.5;
+        // On the lower triangle only (all the solvers read): no n x n temporaries.
+        let w = (&u * rb_inv) * sigma;
+        for j in 0..n {
+            for i in j..n {
+                a[(i, j)] += (0..6).map(|c| w[(i, c)] * u[(j, c)]).sum::<f64>();
+            }
+        }
     }
     stage("rigid shift");
     let nel = if props.is_some() {
