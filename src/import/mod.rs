@@ -32,6 +32,7 @@ pub mod dofs;
 pub mod modes;
 pub mod report;
 pub mod rigid;
+pub mod tridiag;
 pub mod units;
 
 pub use report::Report;
@@ -41,10 +42,13 @@ pub use units::Units;
 /// user is asked to reduce in the FE code. The work is O(n^3) (Cholesky, the standard-form
 /// matrix, the symmetric eigen-solver, the products of [`assemble`]; [`dense`]). Measured
 /// on a 2-core machine under a load average of 5 (tests/python/import_sizes.py, a free
-/// grillage), beside LAPACK's generalised eigen-solver alone on the same matrices in the
-/// same run: 1008 DOFs 1.5 s (LAPACK 0.6 s), 2040 DOFs 7.6 s (3.7 s), 3000 DOFs 24 s
-/// (12 s); earlier, under a load of 10 to 13 and with m_L, K_L from products, 4032 DOFs
-/// took 189 s with the limit lifted.
+/// grillage, FXBODY_IMPORT_TIMES for the stages), beside LAPACK's generalised
+/// eigen-solver alone on the same matrices in the same run: 1008 DOFs 1.0 s (LAPACK
+/// 0.5 s), 2040 DOFs 5.7 s (2.7 s), 3000 DOFs 25.6 s (12.7 s; 12 s of it faer's
+/// eigen-solver), 4032 DOFs with the limit lifted 39 s (22 s). With `--fmax` keeping a
+/// few modes (eigenvectors of the kept modes only): 3000 DOFs 14.8 s (9.4 s; 7.9 s of it
+/// the tridiagonal reduction), 4032 DOFs 32 s (24 s). 4000 DOFs is not "seconds" on such
+/// a machine, so the limit stays at 3000.
 pub const MAX_DENSE_DOFS: usize = 3000;
 
 /// Free or blocked, as asked on the command line; `Detect` takes it from K's null space.
@@ -204,6 +208,46 @@ pub struct Imported {
     pub report: Report,
 }
 
+/// Wall time of the import's stages, printed to stderr when the environment variable
+/// `FXBODY_IMPORT_TIMES` is set (to profile a large import; off by default).
+struct Stages {
+    start: Option<std::time::Instant>,
+    last: f64,
+    lines: Vec<String>,
+}
+
+impl Stages {
+    fn new() -> Stages {
+        let on = std::env::var_os("FXBODY_IMPORT_TIMES").is_some();
+        Stages {
+            start: on.then(std::time::Instant::now),
+            last: 0.0,
+            lines: Vec::new(),
+        }
+    }
+
+    /// The stage `name` ended now.
+    fn done(&mut self, name: &str) {
+        if let Some(t) = self.start {
+            let now = t.elapsed().as_secs_f64();
+            self.lines
+                .push(format!("import stage {name:<28} {:8.3} s", now - self.last));
+            self.last = now;
+        }
+    }
+}
+
+impl Drop for Stages {
+    fn drop(&mut self) {
+        if self.start.is_some() {
+            for l in &self.lines {
+                eprintln!("{l}");
+            }
+            eprintln!("import stage {:<28} {:8.3} s", "total", self.last);
+        }
+    }
+}
+
 /// Build a body from K and M (see the module text). `coords_file` names the coordinates'
 /// file in messages.
 pub fn build(
@@ -231,6 +275,7 @@ pub fn build(
         )));
     }
     let mut report = Report::default();
+    let mut stages = Stages::new();
     let mut model = dofs::Model::from_matrices(k, m)?;
     let coords: Option<BTreeMap<i64, [f64; 3]>> = coords.map(|c| {
         let f = opts.units.map_or(1.0, |u| u.length);
@@ -242,6 +287,7 @@ pub fn build(
         model.convert(u);
     }
     let reduced = dofs::reduce(model, &mut report)?;
+    stages.done("DOFs, condensation");
     let grid_ids = reduced.grid_ids();
     let node_ids = match &opts.nodes {
         None => grid_ids.clone(),
@@ -271,15 +317,21 @@ pub fn build(
         Some(c) => Some(rigid::MassProps::of(&reduced, c)?),
         None => None,
     };
+    stages.done("mass properties");
     let eig = modes::Eigen::solve(&reduced)?;
+    stages.done("Cholesky of M, L^-1 K L^-T");
     let free = modes::classify(&reduced, props.as_ref(), opts.support, &mut report)?;
     let rigid = if free { props.as_ref() } else { None };
-    let (lambda, phi) = modes::elastic(&reduced, &eig, rigid)?;
+    let cut = opts.fmax.map(modes::cut_eigenvalue);
+    let el = modes::elastic(&reduced, &eig, rigid, cut, &mut |s| stages.done(s))?;
+    let basis = modes::local_basis(&reduced, &el, &eig.l, rigid, &node_ids, &mut report)?;
     drop(eig);
-    let basis = modes::local_basis(&reduced, &lambda, &phi, opts.fmax, &node_ids, &mut report)?;
+    stages.done("cut, static modes, scaling");
     let file = assemble::fxb(&reduced, &basis, rigid, &node_ids, opts, &mut report);
+    stages.done("assembly (M_C, K_C, checks)");
     crate::body::Body::from_fxb(&file, "the imported body")
         .map_err(|e| ImportError::Invalid(e.to_string()))?;
+    stages.done("body check");
     if let Some(p) = &props {
         report.mass_properties(p);
     }

@@ -8,12 +8,13 @@
 //! untouched; each elastic mode is then re-projected to be M-orthogonal to R.
 //!
 //! `--fmax F` keeps the eigenmodes up to F and adds static modes for the unit loads on
-//! the nodes' DOFs: the dropped modes' share of the static response, `Phi_d Lambda_d^-1
-//! Phi_d^T f`, spans the left singular vectors U of `Lambda_d^-1 Phi_d^T F`, so the static
-//! modes are `Phi_d U` (singular values below 1e-8 of the largest dropped). They are
-//! M-orthonormal and M- and K-orthogonal to the kept modes, so the static-dynamic block of
-//! K_L is zero, and the static response at the nodes is that of the whole model (for a
-//! free body: the inertia-relief response).
+//! the nodes' DOFs: the dropped modes' share of the static response, the flexibility's
+//! response minus the kept modes' share (`static_modes`). They are M-orthonormal and M-
+//! and K-orthogonal to the kept modes, so the static-dynamic block of K_L is zero, and the
+//! static response at the nodes is that of the whole model (for a free body: the
+//! inertia-relief response). With a cut, only the kept eigenvectors are computed
+//! (tridiagonal bisection and inverse iteration, [`super::tridiag`]) when they are at most
+//! a quarter of the modes.
 
 use nalgebra::{DMatrix, DVector};
 
@@ -131,36 +132,85 @@ pub fn classify(
     Ok(free)
 }
 
-/// The elastic eigenpairs, ascending: eigenvalues and M-orthonormal modes on the a-set.
-/// For a free body (`props` given) the rigid pairs are removed and every mode is
-/// M-orthogonal to the rigid motions. Refuses a negative K, a singular blocked K and a
-/// mechanism.
+/// The elastic modes an import keeps and the eigenvalues of those it drops.
+#[derive(Debug, Clone)]
+pub struct Elastic {
+    /// Kept eigenvalues, ascending.
+    pub lambda: Vec<f64>,
+    /// Kept modes on the a-set, M-orthonormal (and for a free body M-orthogonal to the
+    /// rigid motions), one column each.
+    pub phi: DMatrix<f64>,
+    /// Eigenvalues dropped by the cut, ascending.
+    pub dropped: Vec<f64>,
+}
+
+/// With a cut keeping at most this share of the modes, only the kept eigenvectors are
+/// computed ([`super::tridiag`]); above it faer's full eigen-solver is cheaper.
+const PARTIAL_SHARE: usize = 4;
+
+/// The elastic eigenpairs, ascending, up to the eigenvalue `cut` when given: eigenvalues
+/// and M-orthonormal modes on the a-set. For a free body (`props` given) the rigid pairs
+/// are removed and every mode is M-orthogonal to the rigid motions. Refuses a negative K,
+/// a singular blocked K and a mechanism. `stage` is told when each step ends (the
+/// import's profile).
 pub fn elastic(
     model: &Reduced,
     eig: &Eigen,
     props: Option<&MassProps>,
-) -> Result<(Vec<f64>, DMatrix<f64>), ImportError> {
+    cut: Option<f64>,
+    stage: &mut dyn FnMut(&str),
+) -> Result<Elastic, ImportError> {
     let n = eig.a.nrows();
     let mut a = eig.a.clone();
     if let Some(p) = props {
-        // Shift the rigid pairs to sigma, above every elastic eigenvalue (|A|_F bounds
-        // them): A + sigma U Rb^-1 U^T with U = L^T R.
-        let sigma = 2.0 * a.norm() + 1.0;
+        // Shift the rigid pairs to sigma, above every elastic eigenvalue (|A|_inf bounds
+        // them): A + sigma U Rb^-1 U^T with U = L^T R (symmetric: Rb is). No larger: the solver's absolute
+        // error grows with the shifted matrix's norm (with 2 |A|_F, 13 times the largest
+        // eigenvalue of a 2040-DOF grillage, it was that much larger).
+        let sigma = 2.0 * dense::inf_norm(&a) + f64::MIN_POSITIVE;
         let u = eig.l.transpose() * &p.r;
         let rb_inv =
             p.rb.clone()
                 .try_inverse()
                 .ok_or_else(|| ImportError::NoModes("the rigid mass R^T M R is singular".into()))?;
-        a += (&u * rb_inv * u.transpose()) * sigma;
-        a = (&a + a.transpose()) * 0.5;
+        // On the lower triangle only (all the solvers read): no n x n temporaries.
+        let w = (&u * rb_inv) * sigma;
+        for j in 0..n {
+            for i in j..n {
+                a[(i, j)] += (0..6).map(|c| w[(i, c)] * u[(j, c)]).sum::<f64>();
+            }
+        }
     }
-    let (values, vectors) = dense::sym_eigen(&a)
-        .ok_or_else(|| ImportError::Invalid("the eigen-solver did not converge".into()))?;
+    stage("rigid shift");
     let nel = if props.is_some() {
         n.saturating_sub(6)
     } else {
         n
     };
+    let failed = || ImportError::Invalid("the eigen-solver did not converge".into());
+    // With a cut: the eigenvalues first, then the kept eigenvectors only, unless most are
+    // kept. Without: every pair.
+    let reduction = match cut {
+        Some(_) if n >= 2 => Some(dense::tridiagonalize(&a).ok_or_else(failed)?),
+        _ => None,
+    };
+    let (values, vectors) = match &reduction {
+        Some(r) => {
+            let mut values = r.eigenvalues().ok_or_else(failed)?;
+            let kept = kept_count(&values[..nel], cut);
+            if kept * PARTIAL_SHARE <= n {
+                for (k, v) in values.iter_mut().enumerate().take(kept) {
+                    *v = r.eigenvalue(k);
+                }
+                let v = r.eigenvectors(&values[..kept]);
+                (values, v)
+            } else {
+                dense::sym_eigen(&a).ok_or_else(failed)?
+            }
+        }
+        None => dense::sym_eigen(&a).ok_or_else(failed)?,
+    };
+    stage("eigen-solve");
     // Ascending: the elastic pairs first (a free body's rigid pairs were shifted up).
     let lambda: Vec<f64> = values[..nel].to_vec();
     let top = lambda.iter().fold(0.0f64, |m, v| m.max(v.abs()));
@@ -182,7 +232,8 @@ pub fn elastic(
             },
         });
     }
-    let v = vectors.columns(0, nel).into_owned();
+    let kept = kept_count(&lambda, cut);
+    let v = vectors.columns(0, kept).into_owned();
     let mut phi = dense::solve_lower_transposed(&eig.l, &v);
     if let Some(p) = props {
         // Re-project: phi -= R Rb^-1 (M R)^T phi (M R is n x 6: no n x n product).
@@ -190,7 +241,24 @@ pub fn elastic(
         let c = rb_inv * dense::tr_mul(&(&model.m * &p.r), &phi);
         phi -= &p.r * c;
     }
-    Ok((lambda, phi))
+    stage("back-solve L^-T, projection");
+    Ok(Elastic {
+        dropped: lambda[kept..].to_vec(),
+        lambda: lambda[..kept].to_vec(),
+        phi,
+    })
+}
+
+/// How many of the ascending eigenvalues `lambda` are at or below `cut` (all without).
+fn kept_count(lambda: &[f64], cut: Option<f64>) -> usize {
+    cut.map_or(lambda.len(), |c| lambda.iter().filter(|&&l| l <= c).count())
+}
+
+/// The eigenvalue of the frequency `fmax` (Hz), with the relative slack that keeps a
+/// printed frequency's mode.
+pub fn cut_eigenvalue(fmax: f64) -> f64 {
+    let w = 2.0 * std::f64::consts::PI * fmax * (1.0 + FMAX_SLACK);
+    w * w
 }
 
 /// The local modes on the a-set, static modes first, how many are static, and their
@@ -198,9 +266,9 @@ pub fn elastic(
 ///
 /// `m_l` and `k_l` come from the eigen relations, not from `Phi^T M Phi` and
 /// `Phi^T K Phi` (two n x n-by-nl products, a third of a 3000-DOF import): before scaling
-/// the columns are M-orthonormal (`Phi^T M Phi = I`, `Phi^T K Phi = Lambda`), a static
-/// mode `Phi_d u` has `u^T Lambda_d u'` with another and none with a kept mode, and a
-/// column scaled by `f` has its row and column of both scaled by `f`.
+/// the columns are M-orthonormal (`Phi^T M Phi = I`, `Phi^T K Phi = Lambda`), the static
+/// modes are M- and K-orthogonal to the kept ones, and a column scaled by `f` has its row
+/// and column of both scaled by `f`.
 #[derive(Debug, Clone)]
 pub struct Basis {
     /// Modes on the a-set, one per column, each scaled so that its largest nodal
@@ -215,57 +283,29 @@ pub struct Basis {
     pub k_l: DMatrix<f64>,
 }
 
-/// Cut at `fmax` with static modes for the nodes `node_ids` (see the module text), then
-/// scale every mode.
+/// Add static modes for the nodes `node_ids` to the kept modes `el` (see the module
+/// text), then scale every mode. `l` is M's Cholesky factor; `props` is given for a free
+/// body.
 pub fn local_basis(
     model: &Reduced,
-    lambda: &[f64],
-    phi: &DMatrix<f64>,
-    fmax: Option<f64>,
+    el: &Elastic,
+    l: &DMatrix<f64>,
+    props: Option<&MassProps>,
     node_ids: &[i64],
     report: &mut Report,
 ) -> Result<Basis, ImportError> {
     let hz = |l: f64| l.max(0.0).sqrt() / (2.0 * std::f64::consts::PI);
-    let kept = match fmax {
-        None => lambda.len(),
-        Some(f) => lambda
-            .iter()
-            .filter(|&&l| hz(l) <= f * (1.0 + FMAX_SLACK))
-            .count(),
+    let kept = el.lambda.len();
+    let (statics, k_s) = if el.dropped.is_empty() {
+        (DMatrix::zeros(model.a.len(), 0), DMatrix::zeros(0, 0))
+    } else {
+        report.dropped_hz = el.dropped.iter().map(|&l| hz(l)).collect();
+        static_modes(model, el, l, props, node_ids)?
     };
-    let nd = lambda.len() - kept;
-    let mut cols: Vec<DVector<f64>> = Vec::new();
-    // u^T Lambda_d for each static mode's coefficients u, for the static block of K_L.
-    let mut ul: Vec<DVector<f64>> = Vec::new();
-    let mut us: Vec<DVector<f64>> = Vec::new();
-    if nd > 0 {
-        let pd = phi.columns(kept, nd);
-        let loads = model.grid_loads(node_ids);
-        let inv = DMatrix::from_diagonal(&DVector::from_iterator(
-            nd,
-            lambda[kept..].iter().map(|l| 1.0 / l),
-        ));
-        let b = inv * pd.transpose() * loads;
-        let svd = b.svd(true, false);
-        let u = svd.u.expect("requested");
-        let smax = svd.singular_values.max();
-        let mut idx: Vec<usize> = (0..svd.singular_values.len())
-            .filter(|&i| svd.singular_values[i] > STATIC_TOL * smax)
-            .collect();
-        idx.sort_by(|&i, &j| svd.singular_values[j].total_cmp(&svd.singular_values[i]));
-        for i in idx {
-            cols.push(pd * u.column(i));
-            us.push(u.column(i).into_owned());
-            ul.push(
-                u.column(i)
-                    .component_mul(&DVector::from_column_slice(&lambda[kept..])),
-            );
-        }
-        report.dropped_hz = lambda[kept..].iter().map(|&l| hz(l)).collect();
-    }
-    let nbstat = cols.len();
+    let nbstat = statics.ncols();
+    let mut cols: Vec<DVector<f64>> = statics.column_iter().map(|c| c.into_owned()).collect();
     for j in 0..kept {
-        cols.push(phi.column(j).into_owned());
+        cols.push(el.phi.column(j).into_owned());
     }
     if cols.is_empty() {
         return Err(ImportError::NoModes(
@@ -278,11 +318,11 @@ pub fn local_basis(
     let mut k_l = DMatrix::zeros(nl, nl);
     for i in 0..nbstat {
         for j in 0..nbstat {
-            k_l[(i, j)] = f[i] * f[j] * ul[i].dot(&us[j]);
+            k_l[(i, j)] = f[i] * f[j] * k_s[(i, j)];
         }
     }
     for j in nbstat..nl {
-        k_l[(j, j)] = f[j] * f[j] * lambda[j - nbstat];
+        k_l[(j, j)] = f[j] * f[j] * el.lambda[j - nbstat];
     }
     let m_l = f.iter().map(|f| f * f).collect();
     report.kept_modes = kept;
@@ -293,6 +333,76 @@ pub fn local_basis(
         m_l,
         k_l,
     })
+}
+
+/// The static modes of a cut and their stiffness block `Q^T K Q`.
+///
+/// The dropped modes' share of the static response to the unit loads F on the nodes is
+/// `S = G F - Phi_k Lambda_k^-1 Phi_k^T F`, with G the flexibility on the elastic modes:
+/// `K^-1` for a blocked body; for a free one `P K_s^-1 P^T` with the M-orthogonal
+/// projector `P = I - R Rb^-1 (M R)^T` off the rigid motions and `K_s = K + c (M R) Rb^-1
+/// (M R)^T`, which is positive definite and equal to K on the elastic modes. S lies in
+/// the dropped modes' span; the static modes are its M-orthonormal left singular vectors
+/// (`L^-T` of those of `L^T S`), singular values below [`STATIC_TOL`] of the largest
+/// left out, largest first. This needs neither the dropped eigenvectors nor their
+/// eigenvalues.
+fn static_modes(
+    model: &Reduced,
+    el: &Elastic,
+    l: &DMatrix<f64>,
+    props: Option<&MassProps>,
+    node_ids: &[i64],
+) -> Result<(DMatrix<f64>, DMatrix<f64>), ImportError> {
+    let loads = model.grid_loads(node_ids);
+    let not_pd = || {
+        ImportError::Invalid(
+            "K is not positive definite on the elastic modes (its Cholesky factor failed)".into(),
+        )
+    };
+    let mut g_f = match props {
+        None => {
+            let lk = dense::cholesky(&model.k).ok_or_else(not_pd)?;
+            dense::solve_lower_transposed(&lk, &dense::solve_lower(&lk, &loads))
+        }
+        Some(p) => {
+            let rb_inv = p.rb.clone().try_inverse().expect("checked by elastic");
+            let mr = &model.m * &p.r;
+            // c: the largest elastic eigenvalue, so that K_s is as well scaled as K
+            let c = el.dropped.last().copied().unwrap_or(1.0);
+            let w = &mr * &rb_inv;
+            let mut k_s = &model.k + (&w * mr.transpose()) * c;
+            k_s = (&k_s + k_s.transpose()) * 0.5;
+            let lk = dense::cholesky(&k_s).ok_or_else(not_pd)?;
+            let relieved = &loads - &w * (p.r.transpose() * &loads);
+            let x = dense::solve_lower_transposed(&lk, &dense::solve_lower(&lk, &relieved));
+            let proj = rb_inv * dense::tr_mul(&mr, &x);
+            x - &p.r * proj
+        }
+    };
+    let pk = &el.phi;
+    let inv = DMatrix::from_diagonal(&DVector::from_iterator(
+        el.lambda.len(),
+        el.lambda.iter().map(|l| 1.0 / l),
+    ));
+    g_f -= pk * (inv * dense::tr_mul(pk, &loads));
+    // Round-off off the kept modes' span: S -= Phi_k (Phi_k^T M S).
+    let ms = dense::mul(&model.m, &g_f);
+    g_f -= pk * dense::tr_mul(pk, &ms);
+    let w = l.transpose() * &g_f;
+    let svd = w.svd(true, false);
+    let u = svd.u.expect("requested");
+    let smax = svd.singular_values.max();
+    let mut idx: Vec<usize> = (0..svd.singular_values.len())
+        .filter(|&i| svd.singular_values[i] > STATIC_TOL * smax)
+        .collect();
+    idx.sort_by(|&i, &j| svd.singular_values[j].total_cmp(&svd.singular_values[i]));
+    let picked = DMatrix::from_columns(&idx.iter().map(|&i| u.column(i)).collect::<Vec<_>>());
+    if picked.ncols() == 0 {
+        return Ok((DMatrix::zeros(model.a.len(), 0), DMatrix::zeros(0, 0)));
+    }
+    let q = dense::solve_lower_transposed(l, &picked);
+    let kq = dense::tr_mul(&q, &dense::mul(&model.k, &q));
+    Ok((q, (&kq + kq.transpose()) * 0.5))
 }
 
 /// Scale each mode so that its largest translation at the FXB nodes is +1 (else its

@@ -7,10 +7,13 @@ the time `awk` takes to read the same two matrix files, and the time LAPACK's ge
 symmetric eigen-solver (scipy.linalg.eigh(K, M), one thread, eigenvectors) takes on the
 same matrices, the one step any dense import must do:
 
-    .venv/bin/python tests/python/import_sizes.py [DOFS ...]   # default 1000 2000 3000 4000
+    .venv/bin/python tests/python/import_sizes.py [DOFS ...] [--fmax HZ] [--all-nodes]
+    # default sizes 1000 2000 3000 4000
 
-`--nodes` keeps four corner nodes, as a reduction to an interface would; `--all-nodes`
-keeps every grid point as an FXB node (the default of `import`, a larger file)."""
+Four corner nodes are kept, as a reduction to an interface would; `--all-nodes` keeps
+every grid point as an FXB node (the default of `import`, a larger file). `--fmax HZ`
+imports with that cut (static modes for the nodes added). With FXBODY_IMPORT_TIMES set,
+the import's own stage times follow each line."""
 
 import pathlib
 import subprocess
@@ -48,8 +51,11 @@ def grillage(dofs):
 
 def main(argv):
     all_nodes = "--all-nodes" in argv
-    sizes = [int(a) for a in argv if not a.startswith("--")] or [1000, 2000, 3000, 4000]
-    print("DOFs   import_s  lapack_eigh_s  awk_read_s  bytes(K+M)  nodes")
+    fmax = argv[argv.index("--fmax") + 1] if "--fmax" in argv else None
+    rest = [a for i, a in enumerate(argv) if not a.startswith("--")
+            and not (i > 0 and argv[i - 1] == "--fmax")]
+    sizes = [int(a) for a in rest] or [1000, 2000, 3000, 4000]
+    print(f"DOFs   import_s  lapack_eigh_s  awk_read_s  bytes(K+M)  nodes  (fmax {fmax})")
     for n in sizes:
         ids, xyz, k, m, corners = grillage(n)
         with tempfile.TemporaryDirectory() as d:
@@ -67,6 +73,8 @@ def main(argv):
                     str(d / "M.mtx"), "--coords", str(d / "nodes.csv"), "-o", str(d / "g.fxb")]
             if not all_nodes:
                 args += ["--nodes", ",".join(map(str, corners))]
+            if fmax:
+                args += ["--fmax", fmax]
             t0 = time.perf_counter()
             r = subprocess.run(args, capture_output=True, text=True)
             t_imp = time.perf_counter() - t0
@@ -76,6 +84,9 @@ def main(argv):
             t_eigh = time.perf_counter() - t0
             print(f"{k.shape[0]:5d}  {t_imp:8.2f}  {t_eigh:13.2f}  {t_awk:10.2f}  {size:10d}  "
                   f"{'all' if all_nodes else 4}{status}", flush=True)
+            for line in r.stderr.splitlines():
+                if line.startswith("import stage"):
+                    print("    " + line, flush=True)
 
 
 if __name__ == "__main__":
