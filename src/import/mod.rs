@@ -195,6 +195,15 @@ pub enum ImportError {
     /// A bad option value.
     #[error("{0}")]
     BadOption(String),
+    /// The eigen-solve came back inaccurate: the modes are not orthogonal to round-off.
+    #[error(
+        "the computed modes are not the eigenmodes of the matrices: Phi^T M Phi and \
+         Phi^T K Phi depart from diagonal by {} (at most {} from round-off); the \
+         eigen-solver failed on these matrices, nothing was written",
+        crate::num::num(*.0),
+        crate::num::num(assemble::MAX_DEPARTURE)
+    )]
+    Inaccurate(f64),
 }
 
 /// A built body: the file, the node coordinates it refers to, and the report.
@@ -327,7 +336,7 @@ pub fn build(
     let basis = modes::local_basis(&reduced, &el, &eig.l, rigid, &node_ids, &mut report)?;
     drop(eig);
     stages.done("cut, static modes, scaling");
-    let file = assemble::fxb(&reduced, &basis, rigid, &node_ids, opts, &mut report);
+    let file = assemble::fxb(&reduced, &basis, rigid, &node_ids, opts, &mut report)?;
     stages.done("assembly (M_C, K_C, checks)");
     crate::body::Body::from_fxb(&file, "the imported body")
         .map_err(|e| ImportError::Invalid(e.to_string()))?;
