@@ -56,7 +56,7 @@ fn explicit_stable_step(body: &Body) -> f64 {
 /// Run `info`: the report on stdout, or the error message (for exit code 2).
 pub fn run(args: &InfoArgs) -> Result<(), String> {
     let progress = super::progress::Progress::start("checking");
-    let (body, _) =
+    let body =
         fxbody::body::load_reporting(&args.file, &mut |done, total| progress.update(done, total))
             .map_err(|e| e.to_string())?;
     // The node list is checked before anything is printed.
