@@ -158,6 +158,7 @@ pub(crate) fn plain_real(text: &[u8]) -> (usize, Option<f64>) {
 /// number in Rust's syntax; `None` if not finite. Clinger's fast path (see
 /// [`plain_real`]) where it is exact, else `str::parse` of `text`: both correctly
 /// rounded, so every reader that goes through here agrees bit for bit.
+#[inline]
 pub(crate) fn decimal(
     neg: bool,
     mantissa: u64,
