@@ -331,4 +331,17 @@ fn progress_is_reported_up_to_the_whole_file() {
     // crosses it), and the last at the end.
     assert!(seen.len() >= 5, "{seen:?}");
     assert!(steps.iter().all(|&s| s <= (1 << 20) + 100), "{steps:?}");
+    // Reading the file as it is read (what `info` and `pack` do) tells the same.
+    let path = std::env::temp_dir().join(format!("fxbody_progress_{}.fxb", std::process::id()));
+    std::fs::write(&path, big).unwrap();
+    let mut streamed: Vec<(u64, u64)> = Vec::new();
+    let mut tell = |done, total| streamed.push((done, total));
+    let how = Reading {
+        progress: Some(&mut tell),
+        ..Reading::default()
+    };
+    let read = fxb::read_path_with(&path, how).unwrap();
+    std::fs::remove_file(&path).unwrap();
+    assert_eq!(bits(&read), bits(&with));
+    assert_eq!(streamed, seen);
 }
