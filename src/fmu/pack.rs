@@ -399,8 +399,10 @@ pub fn prepare_reporting(
             let h = match popts.step {
                 Some(h) => h,
                 None => {
-                    let probe =
-                        Scene::new(std::sync::Arc::new(body.clone()), Vec::new(), Vec::new());
+                    // The step follows the frequencies only: a probe body without node
+                    // rows, not a copy of every node's modes.
+                    let bare = crate::reduce::select_nodes(&body, &[]);
+                    let probe = Scene::new(std::sync::Arc::new(bare), Vec::new(), Vec::new());
                     super::xml::default_experiment(&probe).1
                 }
             };
