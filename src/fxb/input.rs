@@ -1,8 +1,8 @@
 //! Reading an input file safely: only regular files, never more bytes than the file can
 //! need, and a compressed archive named as such instead of parsed as text. Every command
-//! reads its `.fxb` through [`read_fxb_bytes`] and its coordinate file through
-//! [`read_regular`], so `fxbody info /dev/zero` is refused at once instead of growing
-//! without bound.
+//! opens its `.fxb` through [`open_fxb`] (or reads it whole through [`read_fxb_bytes`])
+//! and its coordinate file through [`read_regular`], so `fxbody info /dev/zero` is
+//! refused at once instead of growing without bound.
 
 use std::fs::File;
 use std::io::{self, Read};

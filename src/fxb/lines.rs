@@ -1,4 +1,4 @@
-//! The data lines of a `.fxb` text, read through a window of a few MiB rather than
+//! The data lines of a `.fxb` text, read through a window of 1 MiB rather than
 //! whole: a 100 MB body file is parsed as it is read, so its bytes never sit in memory
 //! at once (on a virtual machine, touching 100 MB of fresh memory costs more than
 //! parsing it). The text may come from a file or from bytes already in memory; both go
@@ -129,10 +129,14 @@ impl<'r> Lines<'r> {
         self.end -= self.start;
         self.start = 0;
         self.last = None;
-        if self.buf.len() < WINDOW {
-            self.buf.resize(WINDOW, 0);
+        // A window no larger than the text (a small file allocates a few bytes, not a
+        // MiB), doubled while one line fills it.
+        let left = usize::try_from(self.total.saturating_sub(self.base)).unwrap_or(WINDOW);
+        let want = WINDOW.min(left.saturating_add(1));
+        if self.buf.len() < want {
+            self.buf.resize(want, 0);
         } else if self.end == self.buf.len() {
-            self.buf.resize(2 * self.buf.len(), 0);
+            self.buf.resize(2 * self.buf.len().max(1), 0);
         }
         loop {
             match self.input.read(&mut self.buf[self.end..]) {

@@ -66,7 +66,8 @@ fn refuse_compressed(text: &[u8], file_name: &str) -> Result<(), FxbError> {
 
 /// The bytes of a `.fxb` file, checked before they are read whole
 /// ([`input::read_fxb_bytes`]: a regular file, not compressed, no larger than its header
-/// can need). Every command reads its body file through here.
+/// can need), for a caller that keeps them (`pack --embed-source`); the commands
+/// otherwise parse the file as it is read ([`read_path_with`]), after the same checks.
 pub fn read_bytes(path: &Path) -> Result<Vec<u8>, FxbError> {
     input::read_fxb_bytes(path).map_err(|source| FxbError::Io {
         file: path.display().to_string(),
