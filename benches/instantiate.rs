@@ -1,14 +1,15 @@
 //! Benchmark of issue 16 item 2: the 2-node scene of the large grillage (5,151 nodes, 200
-//! modes, `python fixtures/generate.py --large`, about 100 MB): FMU size, time of
-//! fmi2Instantiate plus initialisation, and resident memory per additional instance,
+//! modes, `python fixtures/generate.py --large`, about 45 s, about 100 MB): FMU size, time
+//! of fmi2Instantiate plus initialisation, and resident memory per additional instance,
 //! from the scene file (the packed FMU, through its C ABI), beside the same figures for
 //! the `.fxb` path every instance took before (read and parse the body file, check the
 //! coordinates, build the scene, hash the body for the GUID, build the solver: what
 //! fmi2Instantiate and initialisation did, measured here in-process), in one run.
 //! Prints figures and ratios; a speed is never asserted.
 //!
-//! Run: `cargo bench --bench instantiate` (looks for fixtures/large.fxb, or the folder in
-//! `FXBODY_LARGE_DIR`).
+//! Run: `cargo bench --bench instantiate` (looks for fixtures/large.fxb and its deck
+//! large.nodes.rad, or the folder in `FXBODY_LARGE_DIR`; the exposed nodes, tip and
+//! corner, are found from the deck: [`large_scene`]).
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -19,6 +20,9 @@ use fxbody::fmu::scene_io::make_scene;
 use fxbody::fmu::{hash::content_guid, options::SceneOptions};
 use fxbody::fxb::coords;
 use fxbody_host::FmuLibrary;
+
+#[path = "common/large_scene.rs"]
+mod large_scene;
 
 /// Resident set size of this process, bytes (/proc/self/statm, 4 KiB pages).
 fn rss() -> f64 {
@@ -46,13 +50,7 @@ fn main() {
         return;
     }
     let deck = dir.join("large.nodes.rad");
-    let reference: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("large.ref.json")).unwrap())
-            .unwrap();
-    let tip = reference["tip_node"].as_i64().unwrap();
-    let xyz = coords::read_coords(&deck).unwrap();
-    let corner = xyz.iter().map(|(id, _)| *id).max().unwrap();
-    let nodes = vec![tip, corner];
+    let nodes = large_scene::two_nodes(&deck);
     let tmp = std::env::temp_dir().join(format!("fxbody_bench_inst_{}", std::process::id()));
     std::fs::create_dir_all(&tmp).unwrap();
     let lib = find_library(None).expect("libfxbody.so next to the bench executable");

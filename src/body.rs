@@ -12,7 +12,7 @@ mod modal;
 pub mod placement;
 
 pub use checks::{BodyError, MAX_LOCAL_MODES};
-pub use load::{LoadError, load, load_reporting, load_with_bytes};
+pub use load::{LoadError, load, load_reporting, load_with_bytes, load_with_bytes_reporting};
 pub use modal::Modal;
 
 /// Rayleigh damping `C_L = alpha diag(m_L) + beta K_L` (block 4); zero when absent.
@@ -171,6 +171,18 @@ impl Body {
         Ok(body)
     }
 
+    /// [`Body::from_fxb`], taking the file: its mode blocks become the mode matrices
+    /// without a copy (they are already stored mode by mode), which spares a large body
+    /// tens of MB of memory traffic.
+    pub fn from_fxb_owned(mut file: FxbFile, source: &str) -> Result<Body, BodyError> {
+        checks::check_raw(&file, source)?;
+        let rigid = std::mem::take(&mut file.rigid_modes);
+        let local = std::mem::take(&mut file.local_modes);
+        let mut body = Body::assemble_with(&file, rigid, local);
+        body.warnings = checks::check_body(&body, source)?;
+        Ok(body)
+    }
+
     /// Whether node `node_index` (position in `node_ids`) has rotational DOFs: Irot = 1
     /// and some rigid or local mode has a nonzero rotational component there.
     pub fn node_has_rotation(&self, node_index: usize) -> bool {
@@ -201,13 +213,17 @@ impl Body {
     /// Assemble the matrices from the raw file, following the storage orders of
     /// FORMULATION.md section 1. The counts in `file` must already be consistent.
     pub fn assemble(file: &FxbFile) -> Body {
+        Body::assemble_with(file, file.rigid_modes.clone(), file.local_modes.clone())
+    }
+
+    /// [`Body::assemble`], with the file's rigid and local mode blocks given apart (and
+    /// taken): mode after mode, node after node, so they are the mode matrices' columns.
+    fn assemble_with(file: &FxbFile, rigid: Vec<f64>, local: Vec<f64>) -> Body {
         let n = file.nbnod;
         let nl = file.nbmod;
         let ns = file.nbstat;
         let nr = file.nr();
-        let modes = |data: &[f64], count: usize| {
-            DMatrix::from_fn(6 * n, count, |row, mode| data[mode * 6 * n + row])
-        };
+        let modes = |data: Vec<f64>, count: usize| DMatrix::from_vec(6 * n, count, data);
         let mut k_l = DMatrix::zeros(nl, nl);
         for r in 0..ns {
             // Row r (0-based) starts after sum_{q<r} (nl - q) values.
@@ -251,8 +267,8 @@ impl Body {
             p0: Matrix3::new(p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], p[8]),
             freq_file: file.freq,
             damping: file.damping.map(|(alpha, beta)| Rayleigh { alpha, beta }),
-            phi_r: modes(&file.rigid_modes, nr),
-            phi_l: modes(&file.local_modes, nl),
+            phi_r: modes(rigid, nr),
+            phi_l: modes(local, nl),
             m_l,
             k_l,
             m_r,

@@ -192,12 +192,28 @@ pub fn select_nodes(body: &Body, nodes: &[usize]) -> Body {
             m[(6 * nodes[row / 6] + row % 6, j)]
         })
     };
-    let mut out = body.clone();
-    out.node_ids = nodes.iter().map(|&n| body.node_ids[n]).collect();
-    out.phi_r = rows(&body.phi_r);
-    out.phi_l = rows(&body.phi_l);
-    out.warnings = Vec::new();
-    out
+    // Field by field: cloning the body first would copy every node's modes (tens of MB
+    // for a large body) only to replace them.
+    Body {
+        node_ids: nodes.iter().map(|&n| body.node_ids[n]).collect(),
+        nbstat: body.nbstat,
+        irot: body.irot,
+        iblo: body.iblo,
+        ifile: body.ifile,
+        p0: body.p0,
+        freq_file: body.freq_file,
+        damping: body.damping,
+        phi_r: rows(&body.phi_r),
+        phi_l: rows(&body.phi_l),
+        m_l: body.m_l.clone(),
+        k_l: body.k_l.clone(),
+        m_r: body.m_r.clone(),
+        m_c: body.m_c.clone(),
+        k_c: body.k_c.clone(),
+        frequencies_hz: body.frequencies_hz.clone(),
+        modal: body.modal.clone(),
+        warnings: Vec::new(),
+    }
 }
 
 /// The file blocks of a body, in the storage orders of FORMULATION.md section 1, for

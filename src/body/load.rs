@@ -1,5 +1,5 @@
-//! From a file path to a validated [`Body`]: the one way every command, the packer and
-//! the FMU (its `resources/body.fxb`) load a body. Reading and parsing are the format
+//! From a file path to a validated [`Body`]: the one way every command and the packer
+//! load a body. Reading and parsing are the format
 //! layer's ([`crate::fxb`]); the physical checks are [`Body::from_fxb`]'s. Every error
 //! names the file.
 
@@ -33,20 +33,20 @@ impl From<BodyError> for LoadError {
 }
 
 /// Read a `.fxb` file and validate it into a [`Body`] (warnings are in
-/// `Body::warnings`); the file name in errors is the path as given.
+/// `Body::warnings`); the file name in errors is the path as given. The file is parsed
+/// as it is read, never whole in memory ([`fxb::read_path_with`]).
 pub fn load(path: &Path) -> Result<Body, LoadError> {
-    load_with_bytes(path).map(|(body, _)| body)
-}
-
-/// [`load`], also returning the file's bytes: the packer stores them unchanged in the
-/// FMU and hashes them into the GUID, and the FMU hashes them again at instantiation.
-pub fn load_with_bytes(path: &Path) -> Result<(Body, Vec<u8>), LoadError> {
     load_reporting(path, &mut |_, _| {})
 }
 
-/// [`load_with_bytes`], telling `progress` (bytes parsed, total bytes) about every MiB
-/// while the file is parsed, so that a command can draw a progress bar for a large body.
-pub fn load_reporting(
+/// [`load`], also returning the file's bytes (read whole, then parsed): for a caller
+/// that stores or hashes them too.
+pub fn load_with_bytes(path: &Path) -> Result<(Body, Vec<u8>), LoadError> {
+    load_with_bytes_reporting(path, &mut |_, _| {})
+}
+
+/// [`load_with_bytes`], telling `progress` as [`load_reporting`] does.
+pub fn load_with_bytes_reporting(
     path: &Path,
     progress: &mut dyn FnMut(u64, u64),
 ) -> Result<(Body, Vec<u8>), LoadError> {
@@ -57,8 +57,18 @@ pub fn load_reporting(
         ..fxb::Reading::default()
     };
     let file = fxb::parse_with(&bytes, &name, how)?;
-    let body = Body::from_fxb(&file, &name)?;
-    Ok((body, bytes))
+    Ok((Body::from_fxb_owned(file, &name)?, bytes))
+}
+
+/// [`load`], telling `progress` (bytes parsed, total bytes) about every MiB while the
+/// file is parsed, so that a command can draw a progress bar for a large body.
+pub fn load_reporting(path: &Path, progress: &mut dyn FnMut(u64, u64)) -> Result<Body, LoadError> {
+    let how = fxb::Reading {
+        progress: Some(progress),
+        ..fxb::Reading::default()
+    };
+    let file = fxb::read_path_with(path, how)?;
+    Ok(Body::from_fxb_owned(file, &path.display().to_string())?)
 }
 
 #[cfg(test)]

@@ -237,7 +237,7 @@ pub struct Prepared {
     pub options: SceneOptions,
     /// Content GUID.
     pub guid: String,
-    /// The body file's bytes (stored in resources/ only with `embed_source`).
+    /// The body file's bytes with `embed_source` (stored in resources/), else empty.
     pub body_bytes: Vec<u8>,
     /// Whether the archive carries the body file too (`--embed-source`).
     pub embed_source: bool,
@@ -323,7 +323,13 @@ pub fn prepare_reporting(
     }
     let fmax = popts.fmax;
     let body_name = req.body.display().to_string();
-    let (body, body_bytes) = body::load_reporting(&req.body, progress)?;
+    // The body file's bytes are kept only to be stored (--embed-source); otherwise it is
+    // parsed as it is read, never whole in memory.
+    let (body, body_bytes) = if req.embed_source {
+        body::load_with_bytes_reporting(&req.body, progress)?
+    } else {
+        (body::load_reporting(&req.body, progress)?, Vec::new())
+    };
     let mut notes: Vec<String> = body
         .warnings
         .iter()
@@ -393,8 +399,10 @@ pub fn prepare_reporting(
             let h = match popts.step {
                 Some(h) => h,
                 None => {
-                    let probe =
-                        Scene::new(std::sync::Arc::new(body.clone()), Vec::new(), Vec::new());
+                    // The step follows the frequencies only: a probe body without node
+                    // rows, not a copy of every node's modes.
+                    let bare = crate::reduce::select_nodes(&body, &[]);
+                    let probe = Scene::new(std::sync::Arc::new(bare), Vec::new(), Vec::new());
                     super::xml::default_experiment(&probe).1
                 }
             };

@@ -11,8 +11,13 @@
 //! fast path returns exactly what the full reading would, and parses each text once.
 //! That the two give identical results is tested line by line and file by file
 //! (`tests` below and the format tests over every fixture).
+//!
+//! Before that, lines of whole `1PE16.9` fields (how Radioss and our writer write every
+//! real, so nearly every line of a large body) are recognised by their fixed layout and
+//! read without searching for the runs ([`FastField::written_usual`]): the same numbers
+//! by the same arithmetic, about a third less time on a 100 MB body.
 
-use super::fields::{FieldValue, LINE_COLUMNS, parse_int, plain_real};
+use super::fields::{FieldValue, LINE_COLUMNS, decimal, eight_digits, parse_int, plain_real};
 
 /// The most fields a line can hold (100 columns of 8-column integer fields).
 pub const MAX_FIELDS: usize = LINE_COLUMNS.div_ceil(8);
@@ -23,6 +28,12 @@ pub trait FastField: FieldValue {
     /// value, exactly as [`FieldValue::parse`] reads that prefix (`None` where it
     /// refuses it: out of range).
     fn plain(text: &[u8]) -> (usize, Option<Self>);
+
+    /// The values of a line written the way nearly every line of a large file is
+    /// written, read faster still; `None` for any other line (or a value out of range).
+    fn written_usual(_line: &[u8], _out: &mut [Self; MAX_FIELDS]) -> Option<usize> {
+        None
+    }
 }
 
 impl FastField for i64 {
@@ -44,11 +55,54 @@ impl FastField for f64 {
     fn plain(text: &[u8]) -> (usize, Option<Self>) {
         plain_real(text)
     }
+
+    /// Lines of whole 16-column fields each written as Fortran's `1PE16.9` writes them
+    /// ([`e16_9`]), as Radioss and our writer do: every field's text is one run filling
+    /// its columns (a sign or a blank first), and where a run touches the previous one
+    /// (a `-` in the first column) the previous ends with a lettered exponent, where the
+    /// blank-separated reading splits too. So both readings see these texts, and each is
+    /// read once, by the arithmetic of [`plain_real`].
+    fn written_usual(line: &[u8], out: &mut [Self; MAX_FIELDS]) -> Option<usize> {
+        if line.is_empty() || !line.len().is_multiple_of(16) || line.len() > LINE_COLUMNS {
+            return None;
+        }
+        for (k, field) in line.chunks_exact(16).enumerate() {
+            out[k] = e16_9(field.try_into().ok()?)?;
+        }
+        Some(line.len() / 16)
+    }
+}
+
+/// The value of a 16-column field written as `1PE16.9` (` d.dddddddddE+dd`, `-` for the
+/// blank when negative; the exponent's sign `+` or `-`), exactly as [`plain_real`]
+/// reads its text; `None` for any other field, or a value out of range.
+fn e16_9(f: &[u8; 16]) -> Option<f64> {
+    let digit = |c: u8| c.is_ascii_digit().then(|| u64::from(c - b'0'));
+    let eight = u64::from_le_bytes(f[3..11].try_into().ok()?);
+    let all_digits = (eight.wrapping_add(0x4646_4646_4646_4646)
+        | eight.wrapping_sub(0x3030_3030_3030_3030))
+        & 0x8080_8080_8080_8080
+        == 0;
+    if !(matches!(f[0], b' ' | b'-') && f[2] == b'.' && all_digits && f[12] == b'E') {
+        return None;
+    }
+    let mantissa = digit(f[1])? * 1_000_000_000 + eight_digits(eight) * 10 + digit(f[11])?;
+    let e = (digit(f[14])? * 10 + digit(f[15])?) as i64;
+    let exponent = match f[13] {
+        b'+' => e,
+        b'-' => -e,
+        _ => return None,
+    };
+    let text = if f[0] == b' ' { &f[1..] } else { &f[..] };
+    decimal(f[0] == b'-', mantissa, 10, exponent - 9, text)
 }
 
 /// Read `line` into `out` when it is laid out the common way (module text); the number
 /// of values, or `None` to ask the full reading.
 pub fn read_line<T: FastField>(line: &[u8], out: &mut [T; MAX_FIELDS]) -> Option<usize> {
+    if let Some(n) = T::written_usual(line, out) {
+        return Some(n);
+    }
     if line.len() > LINE_COLUMNS {
         return None;
     }
@@ -153,6 +207,65 @@ mod tests {
         assert!(!same::<i64>(b"21\t22"));
         assert!(!same::<i64>(b"3 0 2 0 0 1 0"), "ambiguous: full reading");
         assert!(!same::<i64>(b"99999999999999999999"));
+    }
+
+    /// Lines of `1PE16.9` fields, random digits, signs and exponents (glued where
+    /// negative): the layout path answers every one, with the full reading's values;
+    /// a field off the layout by one character sends the line to the general paths.
+    #[test]
+    fn e16_9_lines_are_read_as_the_full_reading_reads_them() {
+        let mut state = 0x0123_4567_89ab_cdefu64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        for _ in 0..50_000 {
+            let r = next();
+            let fields = 1 + (r % 5) as usize;
+            let mut line = String::new();
+            for k in 0..fields {
+                let r = next();
+                let sign = if r & 1 == 0 { ' ' } else { '-' };
+                let e = (r >> 1) % 100;
+                let esign = if r & (1 << 10) == 0 { '+' } else { '-' };
+                let digits = (r >> 11) % 10_000_000_000;
+                let text = format!("{digits:010}");
+                line.push_str(&format!(
+                    "{sign}{}.{}E{esign}{e:02}",
+                    &text[..1],
+                    &text[1..]
+                ));
+                assert_eq!(line.len(), 16 * (k + 1));
+            }
+            let mut buf = [0.0; MAX_FIELDS];
+            assert_eq!(
+                f64::written_usual(line.as_bytes(), &mut buf),
+                Some(fields),
+                "{line}"
+            );
+            let full = fields::read_line::<f64>(line.as_bytes()).unwrap();
+            for (x, y) in full.iter().zip(&buf) {
+                assert_eq!(x.to_bits(), y.to_bits(), "{line}");
+            }
+            assert!(same::<f64>(line.as_bytes()));
+        }
+        let mut buf = [0.0; MAX_FIELDS];
+        for off in [
+            " 1.000000000E+0 ",
+            " 1.000000000D+00",
+            " 1,000000000E+00",
+            "+1.000000000E+00",
+            " 1.000000000E 00",
+            " 1.00000000xE+00",
+            " 1.000000000e+00",
+            " 1.000000000E+00 ",
+            "",
+        ] {
+            assert_eq!(f64::written_usual(off.as_bytes(), &mut buf), None, "{off}");
+            same::<f64>(off.as_bytes());
+        }
     }
 
     /// Every line made of a few pieces from the characters that matter, cut at every

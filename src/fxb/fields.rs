@@ -147,12 +147,31 @@ pub(crate) fn plain_real(text: &[u8]) -> (usize, Option<f64>) {
             exponent = 0;
         }
     }
-    /// Exact powers of ten as doubles.
-    const POW10: [f64; 23] = [
+    (
+        i,
+        decimal(neg, mantissa, digits, exponent - frac_digits, &text[..i]),
+    )
+}
+
+/// The double nearest to `mantissa * 10^power` (negated when `neg`), where `mantissa`
+/// holds the value of `digits` decimal digits (wrapped beyond 19) and `text` is the same
+/// number in Rust's syntax; `None` if not finite. Clinger's fast path (see
+/// [`plain_real`]) where it is exact, else `str::parse` of `text`: both correctly
+/// rounded, so every reader that goes through here agrees bit for bit.
+#[inline]
+pub(crate) fn decimal(
+    neg: bool,
+    mantissa: u64,
+    digits: usize,
+    power: i64,
+    text: &[u8],
+) -> Option<f64> {
+    /// Exact powers of ten as doubles (a `static`: a `const` array indexed at run time
+    /// is copied onto the stack at every call).
+    static POW10: [f64; 23] = [
         1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16,
         1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
     ];
-    let power = exponent - frac_digits;
     let value = if digits <= 19 && mantissa < 1 << 53 && power.abs() <= 22 {
         // Exact: the mantissa converts without rounding, the power is exact.
         let m = mantissa as f64;
@@ -160,11 +179,11 @@ pub(crate) fn plain_real(text: &[u8]) -> (usize, Option<f64>) {
         let v = if power < 0 { m / p } else { m * p };
         Some(if neg { -v } else { v })
     } else {
-        std::str::from_utf8(&text[..i])
+        std::str::from_utf8(text)
             .ok()
             .and_then(|t| t.parse::<f64>().ok())
     };
-    (i, value.filter(|v| v.is_finite()))
+    value.filter(|v| v.is_finite())
 }
 
 /// Read the digits of `text` from `*i` on into `mantissa` (`mantissa * 10 + d` each,
@@ -197,7 +216,7 @@ fn digit_run(text: &[u8], i: &mut usize, mantissa: &mut u64) -> usize {
 
 /// The value of eight ASCII digits read little-endian into `v` (the first digit in the
 /// low byte): pairs, then fours, then the eight, by multiply-and-shift.
-fn eight_digits(v: u64) -> u64 {
+pub(crate) fn eight_digits(v: u64) -> u64 {
     let v = v - 0x3030_3030_3030_3030;
     let v = (v * 10) + (v >> 8);
     let pairs_lo = (v & 0x0000_00FF_0000_00FF).wrapping_mul(100 + (1_000_000 << 32));

@@ -1,8 +1,8 @@
 //! Reading an input file safely: only regular files, never more bytes than the file can
 //! need, and a compressed archive named as such instead of parsed as text. Every command
-//! reads its `.fxb` through [`read_fxb_bytes`] and its coordinate file through
-//! [`read_regular`], so `fxbody info /dev/zero` is refused at once instead of growing
-//! without bound.
+//! opens its `.fxb` through [`open_fxb`] (or reads it whole through [`read_fxb_bytes`])
+//! and its coordinate file through [`read_regular`], so `fxbody info /dev/zero` is
+//! refused at once instead of growing without bound.
 
 use std::fs::File;
 use std::io::{self, Read};
@@ -116,17 +116,30 @@ fn header_of(prefix: &[u8]) -> Option<[i64; 7]> {
     v.try_into().ok()
 }
 
-/// Read a `.fxb` file: a regular file, not compressed, and no larger than its header
-/// counts can need ([`size_bound`]); refused before it is read whole otherwise.
-pub fn read_fxb_bytes(path: &Path) -> io::Result<Vec<u8>> {
+/// A `.fxb` file opened for reading, checked as [`open_fxb`] says.
+pub struct FxbInput {
+    /// The first bytes of the file, already read (up to 64 KiB).
+    pub prefix: Vec<u8>,
+    /// The rest of the file.
+    pub rest: std::io::Take<File>,
+    /// The file's size in bytes.
+    pub size: u64,
+}
+
+/// Open a `.fxb` file: a regular file, not compressed, and no larger than its header
+/// counts can need ([`size_bound`]); refused before it is read whole otherwise. Its first
+/// bytes are read to check this; the rest is left to the caller.
+pub fn open_fxb(path: &Path) -> io::Result<FxbInput> {
     let size = regular_size(path)?;
     let mut file = File::open(path)?;
-    let mut bytes = Vec::new();
-    (&mut file).take(PREFIX.min(size)).read_to_end(&mut bytes)?;
-    if let Some(what) = compressed_kind(&bytes) {
+    let mut prefix = Vec::new();
+    (&mut file)
+        .take(PREFIX.min(size))
+        .read_to_end(&mut prefix)?;
+    if let Some(what) = compressed_kind(&prefix) {
         return Err(refused(format!("this is {what}")));
     }
-    if let Some(h) = header_of(&bytes) {
+    if let Some(h) = header_of(&prefix) {
         let bound = size_bound(&h);
         if u128::from(size) > bound {
             return Err(refused(format!(
@@ -135,9 +148,21 @@ pub fn read_fxb_bytes(path: &Path) -> io::Result<Vec<u8>> {
             )));
         }
     }
-    file.take(size - bytes.len() as u64)
-        .read_to_end(&mut bytes)?;
-    Ok(bytes)
+    let rest = file.take(size - prefix.len() as u64);
+    Ok(FxbInput { prefix, rest, size })
+}
+
+/// Read a `.fxb` file whole, checked as [`open_fxb`] says.
+pub fn read_fxb_bytes(path: &Path) -> io::Result<Vec<u8>> {
+    let FxbInput {
+        mut prefix,
+        mut rest,
+        size,
+    } = open_fxb(path)?;
+    // Reserved at once: growing by doubling would copy and touch the bytes again.
+    prefix.reserve_exact((size as usize).saturating_sub(prefix.len()));
+    rest.read_to_end(&mut prefix)?;
+    Ok(prefix)
 }
 
 #[cfg(test)]

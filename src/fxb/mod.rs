@@ -18,6 +18,7 @@ mod error;
 mod fast;
 pub mod fields;
 pub mod input;
+mod lines;
 mod reader;
 mod writer;
 
@@ -26,13 +27,47 @@ pub use writer::{format_real, write};
 
 /// Read and parse a `.fxb` file; the file name in errors is the path as given.
 pub fn read_path(path: &Path) -> Result<FxbFile, FxbError> {
-    let bytes = read_bytes(path)?;
-    parse(&bytes, &path.display().to_string())
+    read_path_with(path, Reading::default())
+}
+
+/// [`read_path`], reading as `how` says. The file is parsed while it is read, a window
+/// at a time, never whole in memory: the same checks as [`read_bytes`] before, the same
+/// numbers and messages as [`parse_with`] on its bytes.
+pub fn read_path_with(path: &Path, how: Reading<'_>) -> Result<FxbFile, FxbError> {
+    let name = path.display().to_string();
+    let io = |source| FxbError::Io {
+        file: name.clone(),
+        source,
+    };
+    let input::FxbInput { prefix, rest, size } = input::open_fxb(path).map_err(io)?;
+    let head = prefix.strip_prefix(BOM).unwrap_or(&prefix);
+    refuse_compressed(head, &name)?;
+    let total = size - (prefix.len() - head.len()) as u64;
+    let mut text = std::io::Read::chain(head, rest);
+    reader::parse_input(&mut text, total, &name, how)
+}
+
+/// A byte-order mark, as some Windows editors write: not part of line 1.
+const BOM: &[u8] = b"\xEF\xBB\xBF";
+
+/// Refuse a text that starts like a compressed file, naming its kind.
+fn refuse_compressed(text: &[u8], file_name: &str) -> Result<(), FxbError> {
+    match input::compressed_kind(text) {
+        Some(what) => Err(FxbError::Io {
+            file: file_name.into(),
+            source: std::io::Error::new(
+                std::io::ErrorKind::InvalidInput,
+                format!("this is {what}"),
+            ),
+        }),
+        None => Ok(()),
+    }
 }
 
 /// The bytes of a `.fxb` file, checked before they are read whole
 /// ([`input::read_fxb_bytes`]: a regular file, not compressed, no larger than its header
-/// can need). Every command reads its body file through here.
+/// can need), for a caller that keeps them (`pack --embed-source`); the commands
+/// otherwise parse the file as it is read ([`read_path_with`]), after the same checks.
 pub fn read_bytes(path: &Path) -> Result<Vec<u8>, FxbError> {
     input::read_fxb_bytes(path).map_err(|source| FxbError::Io {
         file: path.display().to_string(),
@@ -66,19 +101,11 @@ pub fn parse_with(
     file_name: &str,
     how: Reading<'_>,
 ) -> Result<FxbFile, FxbError> {
-    // A byte-order mark, as some Windows editors write, is not part of line 1.
     let text = text.as_ref();
-    let text = text.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(text);
-    if let Some(what) = input::compressed_kind(text) {
-        return Err(FxbError::Io {
-            file: file_name.into(),
-            source: std::io::Error::new(
-                std::io::ErrorKind::InvalidInput,
-                format!("this is {what}"),
-            ),
-        });
-    }
-    reader::parse_bytes(text, file_name, how)
+    let mut text = text.strip_prefix(BOM).unwrap_or(text);
+    refuse_compressed(text, file_name)?;
+    let total = text.len() as u64;
+    reader::parse_input(&mut text, total, file_name, how)
 }
 
 /// The raw contents of a flexible-body file, block by block, in file order.

@@ -3,51 +3,21 @@
 //! in [`super::fields`].
 
 use std::collections::HashMap;
+use std::io::Read;
 
 use super::error::{At, Block, FxbError};
 use super::fast::{self, FastField, MAX_FIELDS};
 use super::fields::{LineIssue, read_line, shown};
+use super::lines::Lines;
 use super::{FxbFile, Reading};
 
 /// Bytes between two progress reports.
-const PROGRESS_STEP: usize = 1 << 20;
+const PROGRESS_STEP: u64 = 1 << 20;
 
 /// Values per line in real-valued blocks.
 const REALS_PER_LINE: usize = 5;
 /// Node IDs per line in block 2.
 const IDS_PER_LINE: usize = 10;
-
-/// Data lines of the text: comments (`#` or `$` in column 1) and blank lines skipped.
-struct Lines<'a> {
-    text: &'a [u8],
-    pos: usize,
-    line_no: usize,
-}
-
-impl<'a> Lines<'a> {
-    fn next_data(&mut self) -> Option<(usize, &'a [u8])> {
-        while self.pos < self.text.len() {
-            let rest = &self.text[self.pos..];
-            let (line, advance) = match memchr::memchr(b'\n', rest) {
-                Some(p) => (&rest[..p], p + 1),
-                None => (rest, rest.len()),
-            };
-            self.pos += advance;
-            self.line_no += 1;
-            let line = line.strip_suffix(b"\r").unwrap_or(line);
-            let comment = matches!(line.first(), Some(b'#' | b'$'));
-            let blank = line.iter().all(|&c| super::fields::is_blank(c));
-            if !comment && !blank {
-                return Some((self.line_no, line));
-            }
-        }
-        None
-    }
-
-    fn remaining(&self) -> usize {
-        self.text.len().saturating_sub(self.pos)
-    }
-}
 
 struct Reader<'a, 'p> {
     file: &'a str,
@@ -57,18 +27,27 @@ struct Reader<'a, 'p> {
     /// Told (bytes read, total bytes) every [`PROGRESS_STEP`] bytes.
     progress: Option<&'p mut dyn FnMut(u64, u64)>,
     /// The byte offset of the next progress report.
-    next_report: usize,
+    next_report: u64,
 }
 
 impl Reader<'_, '_> {
     /// Tell the progress callback, if any, how far reading has come.
     fn report(&mut self, force: bool) {
+        let at = self.lines.offset();
         if let Some(tell) = self.progress.as_mut()
-            && (force || self.lines.pos >= self.next_report)
+            && (force || at >= self.next_report)
         {
-            tell(self.lines.pos as u64, self.lines.text.len() as u64);
-            self.next_report = self.lines.pos + PROGRESS_STEP;
+            tell(at, self.lines.total());
+            self.next_report = at + PROGRESS_STEP;
         }
+    }
+
+    /// The next data line ([`Lines::next_data`]), a failing read as the file's error.
+    fn next_data(&mut self) -> Result<Option<(usize, std::ops::Range<usize>)>, FxbError> {
+        self.lines.next_data().map_err(|source| FxbError::Io {
+            file: self.file.to_string(),
+            source,
+        })
     }
 
     fn at(&self, line: usize, block: Block) -> At {
@@ -92,12 +71,13 @@ impl Reader<'_, '_> {
         let mut left = count;
         while left > 0 {
             let need = left.min(per_line);
-            let Some((ln, line)) = self.lines.next_data() else {
+            let Some((ln, range)) = self.next_data()? else {
                 return Err(FxbError::UnexpectedEof {
-                    at: self.at(self.lines.line_no, block),
+                    at: self.at(self.lines.line_no(), block),
                     expected: format!("{left} more value(s) of {}", what()),
                 });
             };
+            let line = self.lines.text(range);
             let mut buf = [T::ZERO; MAX_FIELDS];
             let slow;
             let vals: &[T] = match (!self.exact)
@@ -248,22 +228,23 @@ impl Header {
     }
 }
 
-/// Parse the whole text. See [`super::parse_with`].
-pub fn parse_bytes(text: &[u8], file: &str, how: Reading<'_>) -> Result<FxbFile, FxbError> {
+/// Parse the `total` bytes of text `input` gives (a file being read, or bytes in
+/// memory). See [`super::parse_with`].
+pub fn parse_input(
+    input: &mut dyn Read,
+    total: u64,
+    file: &str,
+    how: Reading<'_>,
+) -> Result<FxbFile, FxbError> {
     let mut r = Reader {
         file,
-        lines: Lines {
-            text,
-            pos: 0,
-            line_no: 0,
-        },
+        lines: Lines::new(input, total),
         exact: how.exact,
         progress: how.progress,
         next_report: 0,
     };
     let b1 = Block::new(1);
     let mut raw: Vec<i64> = Vec::with_capacity(7);
-    let before = (r.lines.pos, r.lines.line_no);
     let read = r.read_into(&mut raw, b1, 7, 7, &|| {
         "the 7 header integers Nbmod Nbstat Nbnod Irot Idamp Iblo Ifile".into()
     });
@@ -271,9 +252,9 @@ pub fn parse_bytes(text: &[u8], file: &str, how: Reading<'_>) -> Result<FxbFile,
         // A header that cannot fit 8-column fields (Nbnod = 1000000000) is ambiguous;
         // if its blank-separated reading claims more than the file holds, say that.
         if matches!(e, FxbError::Ambiguous { .. }) {
-            (r.lines.pos, r.lines.line_no) = before;
-            if let Some((ln, line)) = r.lines.next_data() {
-                let free = super::fields::free_values::<i64>(line);
+            r.lines.unread();
+            if let Some((ln, range)) = r.next_data()? {
+                let free = super::fields::free_values::<i64>(r.lines.text(range));
                 if let Some(h) = free
                     .as_deref()
                     .filter(|v| v.len() == 7)
@@ -290,7 +271,7 @@ pub fn parse_bytes(text: &[u8], file: &str, how: Reading<'_>) -> Result<FxbFile,
         }
         return Err(e);
     }
-    let header_line = r.lines.line_no;
+    let header_line = r.lines.line_no();
     let h = header(&r, &raw, header_line)?;
     too_large(&r, &h, header_line, "")?;
     let (n, nl, ns, nr) = (h.nbnod, h.nbmod, h.nbstat, h.nr());
@@ -310,7 +291,7 @@ pub fn parse_bytes(text: &[u8], file: &str, how: Reading<'_>) -> Result<FxbFile,
             IDS_PER_LINE,
             &what,
         )?;
-        let ln = r.lines.line_no;
+        let ln = r.lines.line_no();
         for &id in &node_ids[before..] {
             if id <= 0 {
                 return Err(FxbError::BadNodeId {
@@ -362,7 +343,8 @@ pub fn parse_bytes(text: &[u8], file: &str, how: Reading<'_>) -> Result<FxbFile,
     let m_c = coupled(12)?;
     let k_c = coupled(13)?;
 
-    if let Some((ln, line)) = r.lines.next_data() {
+    if let Some((ln, range)) = r.next_data()? {
+        let line = r.lines.text(range);
         let last = match (nr > 0, nl > 0) {
             (true, true) => 13,
             (true, false) => 11,
@@ -402,7 +384,7 @@ pub fn parse_bytes(text: &[u8], file: &str, how: Reading<'_>) -> Result<FxbFile,
 fn too_large(r: &Reader<'_, '_>, h: &Header, line: usize, note: &str) -> Result<(), FxbError> {
     let needed = h.values_needed();
     let available = r.lines.remaining();
-    if needed.is_none_or(|v| v > available as u128) {
+    if needed.is_none_or(|v| v > u128::from(available)) {
         return Err(FxbError::TooLarge {
             at: r.at(line, Block::new(1)),
             claim: format!(
@@ -410,7 +392,7 @@ fn too_large(r: &Reader<'_, '_>, h: &Header, line: usize, note: &str) -> Result<
                 h.nbmod, h.nbstat, h.nbnod
             ),
             needed: needed.unwrap_or(u128::MAX),
-            available,
+            available: usize::try_from(available).unwrap_or(usize::MAX),
         });
     }
     Ok(())

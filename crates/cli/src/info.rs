@@ -3,6 +3,7 @@
 
 use std::fmt::Write;
 use std::path::PathBuf;
+use std::sync::Arc;
 
 use fxbody::body::Body;
 use fxbody::body::mass_props::{MassProperties, mass_properties};
@@ -24,7 +25,7 @@ pub struct InfoArgs {
 
 /// What `info` reports, computed once for both output forms.
 struct Info {
-    body: Body,
+    body: Arc<Body>,
     nbmod: usize,
     idamp: bool,
     freq_max_hz: f64,
@@ -41,12 +42,12 @@ struct Info {
 /// explicit solver's own, which also bounds the modes coupled to the rigid motion (a
 /// truncated body's can be stiffer than its local modes). Falls back to the local
 /// modes' value when the solver refuses the body (the solver says why when it is used).
-fn explicit_stable_step(body: &Body) -> f64 {
+fn explicit_stable_step(body: &Arc<Body>) -> f64 {
     if body.iblo || body.node_ids.is_empty() {
         return body.explicit_stable_step();
     }
-    let scene =
-        fxbody::scene::Scene::new(std::sync::Arc::new(body.clone()), vec![0], vec![[0.0; 3]]);
+    // The body shared, not copied: a large body's modes are tens of MB.
+    let scene = fxbody::scene::Scene::new(Arc::clone(body), vec![0], vec![[0.0; 3]]);
     match fxbody::solver::free::Explicit::new(&scene, &fxbody::solver::Options::default()) {
         Ok(s) => s.stable_step(),
         Err(_) => body.explicit_stable_step(),
@@ -56,9 +57,10 @@ fn explicit_stable_step(body: &Body) -> f64 {
 /// Run `info`: the report on stdout, or the error message (for exit code 2).
 pub fn run(args: &InfoArgs) -> Result<(), String> {
     let progress = super::progress::Progress::start("checking");
-    let (body, _) =
+    let body =
         fxbody::body::load_reporting(&args.file, &mut |done, total| progress.update(done, total))
             .map_err(|e| e.to_string())?;
+    let body = Arc::new(body);
     // The node list is checked before anything is printed.
     let modes = match &args.nodes {
         Some(ids) => {

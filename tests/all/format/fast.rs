@@ -2,7 +2,8 @@
 //! numbers bit for bit, or the same error message, over every body file (tests/data,
 //! fixtures/, and the generated benchmark bodies fixtures/large*.fxb when they have been
 //! generated), over thousands of damaged copies of two of them, and over a body written
-//! with values of every size; and the progress callback the commands draw their bar from.
+//! with values of every size; reading a file as it is read against parsing its bytes;
+//! and the progress callback the commands draw their bar from.
 
 use std::path::{Path, PathBuf};
 
@@ -189,6 +190,67 @@ fn fast_and_exact_readings_agree_on_damaged_files() {
     assert!(ok > 300 && failed > 300, "{ok} read, {failed} refused");
 }
 
+/// What reading the file at `path` as it is read gives (`fxb::read_path`: a window at
+/// a time, never whole in memory), comparable with [`outcome`] of its bytes.
+fn streamed(path: &Path) -> Result<Vec<u64>, String> {
+    fxb::read_path(path)
+        .map(|f| bits(&f))
+        .map_err(|e| e.to_string().replace(&path.display().to_string(), "t.fxb"))
+}
+
+/// Reading a file as it is read gives what parsing its bytes in memory gives: the same
+/// bits or the same message, over every body file, damaged copies, a byte-order mark,
+/// CR-LF line ends and a last line without its line end.
+#[test]
+fn reading_a_file_as_it_is_read_equals_parsing_its_bytes() {
+    let dir = std::env::temp_dir().join(format!("fxbody_streamed_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("t.fxb");
+    let check = |text: &[u8], what: &str| {
+        std::fs::write(&path, text).unwrap();
+        let memory = outcome(text, false);
+        assert!(streamed(&path) == memory, "{what}: {:?}", memory.err());
+        memory.is_ok()
+    };
+    let mut files = fxb_files();
+    files.extend(large_bodies());
+    for file in &files {
+        let same = fxb::read_path(file).map(|f| bits(&f)).ok();
+        let text = std::fs::read(file).unwrap();
+        let name = file.display().to_string();
+        let memory = fxb::parse(&text, &name).map(|f| bits(&f)).ok();
+        assert!(same.is_some() && same == memory, "{name}");
+    }
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read(root.join("fixtures/cantilever_damped.fxb")).unwrap();
+    assert!(check(
+        &[&b"\xEF\xBB\xBF"[..], &text].concat(),
+        "byte-order mark"
+    ));
+    let crlf: Vec<u8> = text
+        .split(|&c| c == b'\n')
+        .flat_map(|l| [l, b"\r\n"].concat())
+        .collect();
+    assert!(check(&crlf, "CR-LF"));
+    assert!(check(text.strip_suffix(b"\n").unwrap(), "no last line end"));
+    let lines: Vec<Vec<u8>> = text.split(|&c| c == b'\n').map(<[u8]>::to_vec).collect();
+    let mut rng = Rng(0x5eed_1234_abcd_0002);
+    let (mut ok, mut failed) = (0, 0);
+    for trial in 0..400 {
+        let mut copy = lines.clone();
+        for _ in 0..1 + rng.below(3) {
+            damage(&mut copy, &mut rng);
+        }
+        if check(&copy.join(&b'\n'), &format!("damage {trial}")) {
+            ok += 1;
+        } else {
+            failed += 1;
+        }
+    }
+    assert!(ok > 50 && failed > 50, "{ok} read, {failed} refused");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// A free body (15 rigid modes, damping) of `n` nodes and `nl` modes, 2 of them static,
 /// with the numbers `value` gives, in file order.
 fn body(n: usize, nl: usize, mut value: impl FnMut() -> f64) -> FxbFile {
@@ -269,4 +331,17 @@ fn progress_is_reported_up_to_the_whole_file() {
     // crosses it), and the last at the end.
     assert!(seen.len() >= 5, "{seen:?}");
     assert!(steps.iter().all(|&s| s <= (1 << 20) + 100), "{steps:?}");
+    // Reading the file as it is read (what `info` and `pack` do) tells the same.
+    let path = std::env::temp_dir().join(format!("fxbody_progress_{}.fxb", std::process::id()));
+    std::fs::write(&path, big).unwrap();
+    let mut streamed: Vec<(u64, u64)> = Vec::new();
+    let mut tell = |done, total| streamed.push((done, total));
+    let how = Reading {
+        progress: Some(&mut tell),
+        ..Reading::default()
+    };
+    let read = fxb::read_path_with(&path, how).unwrap();
+    std::fs::remove_file(&path).unwrap();
+    assert_eq!(bits(&read), bits(&with));
+    assert_eq!(streamed, seen);
 }
