@@ -1,0 +1,123 @@
+//! The step path of the model: one communication step (fmi2DoStep) under the step
+//! guard, and the refusal that puts the state from before the step back.
+
+use super::{Model, ModelError, StepRefused, check_step_times};
+use crate::fmu::guard::{any_nonzero, largest_input};
+use crate::solver::{Solver, SolverError};
+
+impl Model {
+    /// One communication step from `t` to `t + h`. `Ok(Some(text))` is a completed step
+    /// with a warning for the master (fmi2Warning). Inlined into fmi2DoStep, its one
+    /// caller on the step path; refusing is out of line.
+    #[inline]
+    pub fn do_step(&mut self, t: f64, h: f64) -> Result<Option<String>, ModelError> {
+        check_step_times(t, h, self.time, self.start_time, self.stop_time)?;
+        self.ensure_solver()?;
+        let Some(s) = self.solver.as_mut() else {
+            return Err(ModelError::NoSolver);
+        };
+        // The state before the step, put back if the step fails or leaves a non-finite
+        // number anywhere (guard.rs): a refused step changes nothing. The exact method
+        // keeps it itself (out-of-place stepping); for the others, after an accepted step
+        // the guard already holds it, and this copies nothing.
+        self.guard.begin(s.as_mut());
+        let rates_on = self.rates_written && any_nonzero(&self.rates);
+        let stepped = step_solver(
+            s.as_mut(),
+            h,
+            &self.loads,
+            &self.rates,
+            self.loads_dirty || self.rates_applied || rates_on,
+            rates_on || self.rates_applied,
+        );
+        let bad = match stepped {
+            Ok(()) => self
+                .guard
+                .check(
+                    s.as_ref(),
+                    &self.table,
+                    (&self.loads, &self.rates, rates_on),
+                    self.large_loads == 0,
+                    h,
+                )
+                .map(|what| {
+                    let cause = SolverError::NonFinite {
+                        what,
+                        cause: format!(
+                            "largest input: {}",
+                            largest_input(&self.table, &self.loads, &self.rates)
+                        ),
+                    };
+                    (cause, None)
+                }),
+            // A solver refusal (frame no longer a rotation, budget, singular system) under a
+            // load names that load too: it is usually the cause.
+            Err(e) if self.loads.iter().chain(&self.rates).any(|&x| x != 0.0) => Some((
+                e,
+                Some(largest_input(&self.table, &self.loads, &self.rates)),
+            )),
+            Err(e) => Some((e, None)),
+        };
+        if let Some((cause, largest_input)) = bad {
+            return Err(self.refuse(t, h, cause, largest_input));
+        }
+        self.loads_dirty = false;
+        self.rates_applied = rates_on;
+        if rates_on {
+            self.rates.iter_mut().for_each(|r| *r = 0.0);
+        }
+        // Zero now, whether cleared here or all zero already.
+        self.rates_written = false;
+        let warning = s.take_warning();
+        // Adopt the master's time so that round-off does not accumulate against it.
+        self.time = t + h;
+        Ok(warning)
+    }
+
+    /// Put the state from before a refused step back and say why it was refused.
+    #[cold]
+    #[inline(never)]
+    fn refuse(
+        &mut self,
+        t: f64,
+        h: f64,
+        cause: SolverError,
+        largest_input: Option<String>,
+    ) -> ModelError {
+        let restored = match self.solver.as_mut() {
+            Some(s) => self.guard.rollback(s.as_mut()),
+            None => Ok(()),
+        };
+        // The solver gets the loads and rates again at the next step.
+        self.loads_dirty = true;
+        self.rates_applied = true;
+        ModelError::StepRefused(Box::new(StepRefused {
+            t,
+            h,
+            cause,
+            largest_input,
+            restored,
+        }))
+    }
+}
+
+/// Pass the loads when `pass_loads` (they changed, or rates are or were on: both make
+/// the solver re-project the loads onto the modes), the rates when `pass_rates`, and
+/// advance the solver by `h`.
+#[inline]
+fn step_solver(
+    s: &mut dyn Solver,
+    h: f64,
+    loads: &[f64],
+    rates: &[f64],
+    pass_loads: bool,
+    pass_rates: bool,
+) -> Result<(), SolverError> {
+    if pass_loads {
+        s.set_loads(loads)?;
+    }
+    if pass_rates {
+        s.set_load_rates(rates)?;
+    }
+    s.step(h)
+}
