@@ -16,15 +16,29 @@
 //! first: residuals 6e-15 of the largest eigenvalue, and the solve twice as fast (fewer
 //! wasted iterations).
 
+use faer::diag::Diag;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::evd::tridiag::{self, TridiagParams};
+use faer::linalg::evd::{self, ComputeEigenvectors};
 use faer::linalg::triangular_solve::{
     solve_lower_triangular_in_place, solve_upper_triangular_in_place,
 };
-use faer::{Auto, Mat, MatRef, Par, Side, Spec};
+use faer::{Accum, Auto, Mat, MatRef, Par, Spec};
 use nalgebra::DMatrix;
 
 use super::tridiag::Tridiagonal;
+
+/// Threads every faer call of an import works with: two, fixed. faer splits its blocked
+/// work by this count, so a result depends on it; fixing it (instead of faer's default of
+/// every core) makes an import's file the same bytes on any machine, whether the pool
+/// has one thread or sixty-four (tested). Two is what CI and these machines have:
+/// measured on the 3000-DOF free grillage, quiet machine, the eigen-solve 6.3 s -> 3.4 s.
+const THREADS: usize = 2;
+
+/// The parallelism of every faer call here (see [`THREADS`]); never faer's global one.
+fn par() -> Par {
+    Par::rayon(THREADS)
+}
 
 fn to_faer(a: &DMatrix<f64>) -> Mat<f64> {
     Mat::from_fn(a.nrows(), a.ncols(), |i, j| a[(i, j)])
@@ -42,12 +56,39 @@ pub fn sym_eigen(a: &DMatrix<f64>) -> Option<(Vec<f64>, DMatrix<f64>)> {
         return Some((Vec::new(), DMatrix::zeros(0, 0)));
     }
     let s = unit_scale(a)?;
-    let e = Mat::from_fn(a.nrows(), a.ncols(), |i, j| a[(i, j)] * s)
-        .self_adjoint_eigen(Side::Lower)
-        .ok()?;
-    let d = e.S().column_vector();
-    let values = (0..d.nrows()).map(|i| d[i] / s).collect();
-    Some((values, to_nalgebra(e.U())))
+    let (d, u) = evd_scaled(a, s, ComputeEigenvectors::Yes)?;
+    Some((d, to_nalgebra(u.as_ref())))
+}
+
+/// faer's symmetric eigen-decomposition of `s a` (lower triangle read) with [`par`]:
+/// the eigenvalues divided by `s` again, ascending, and the eigenvectors when asked.
+fn evd_scaled(
+    a: &DMatrix<f64>,
+    s: f64,
+    vectors: ComputeEigenvectors,
+) -> Option<(Vec<f64>, Mat<f64>)> {
+    let n = a.nrows();
+    let scaled = Mat::from_fn(n, n, |i, j| a[(i, j)] * s);
+    let want = matches!(vectors, ComputeEigenvectors::Yes);
+    let mut u = Mat::<f64>::zeros(if want { n } else { 0 }, if want { n } else { 0 });
+    let mut d = Diag::<f64>::zeros(n);
+    let mut mem = MemBuffer::new(evd::self_adjoint_evd_scratch::<f64>(
+        n,
+        vectors,
+        par(),
+        Default::default(),
+    ));
+    evd::self_adjoint_evd(
+        scaled.as_ref(),
+        d.as_mut(),
+        want.then(|| u.as_mut()),
+        par(),
+        MemStack::new(&mut mem),
+        Default::default(),
+    )
+    .ok()?;
+    let d = d.column_vector();
+    Some(((0..n).map(|i| d[i] / s).collect(), u))
 }
 
 /// Eigenvalues (ascending) of the symmetric `a` (lower triangle read), computed on the
@@ -57,10 +98,7 @@ pub fn sym_eigenvalues(a: &DMatrix<f64>) -> Option<Vec<f64>> {
         return Some(Vec::new());
     }
     let s = unit_scale(a)?;
-    let v = Mat::from_fn(a.nrows(), a.ncols(), |i, j| a[(i, j)] * s)
-        .self_adjoint_eigenvalues(Side::Lower)
-        .ok()?;
-    Some(v.into_iter().map(|x| x / s).collect())
+    evd_scaled(a, s, ComputeEigenvectors::No).map(|(d, _)| d)
 }
 
 /// A symmetric matrix reduced to tridiagonal form, `A / s = Q T Q^T` (faer's blocked
@@ -91,13 +129,13 @@ pub fn tridiagonalize(a: &DMatrix<f64>) -> Option<Reduction> {
     let params = <TridiagParams as Auto<f64>>::auto();
     let mut mem = MemBuffer::new(tridiag::tridiag_in_place_scratch::<f64>(
         n,
-        Par::Seq,
+        par(),
         Spec::new(params),
     ));
     tridiag::tridiag_in_place(
         trid.as_mut(),
         householder.as_mut(),
-        Par::Seq,
+        par(),
         MemStack::new(&mut mem),
         Spec::new(params),
     );
@@ -146,7 +184,7 @@ impl Reduction {
             self.householder.as_ref(),
             faer::Conj::No,
             u.as_mut().subrows_mut(1, n - 1),
-            Par::Seq,
+            par(),
             MemStack::new(&mut mem),
         );
         to_nalgebra(u.as_ref())
@@ -186,15 +224,36 @@ pub fn inf_norm(a: &DMatrix<f64>) -> f64 {
 /// The lower Cholesky factor `L` of the symmetric `a` (`a = L L^T`, lower triangle
 /// read); `None` when `a` is not positive definite.
 pub fn cholesky(a: &DMatrix<f64>) -> Option<DMatrix<f64>> {
-    let llt = to_faer(a).llt(Side::Lower).ok()?;
-    Some(to_nalgebra(llt.L()))
+    let n = a.nrows();
+    let mut l = to_faer(a);
+    let mut mem = MemBuffer::new(
+        faer::linalg::cholesky::llt::factor::cholesky_in_place_scratch::<f64>(
+            n,
+            par(),
+            Default::default(),
+        ),
+    );
+    faer::linalg::cholesky::llt::factor::cholesky_in_place(
+        l.as_mut(),
+        Default::default(),
+        par(),
+        MemStack::new(&mut mem),
+        Default::default(),
+    )
+    .ok()?;
+    // The factor is in the lower triangle; the upper one still holds `a`.
+    Some(DMatrix::from_fn(
+        n,
+        n,
+        |i, j| if i >= j { l[(i, j)] } else { 0.0 },
+    ))
 }
 
 /// `L^-1 B` for a lower-triangular `l` with a nonzero diagonal.
 pub fn solve_lower(l: &DMatrix<f64>, b: &DMatrix<f64>) -> DMatrix<f64> {
     let lf = to_faer(l);
     let mut x = to_faer(b);
-    solve_lower_triangular_in_place(lf.as_ref(), x.as_mut(), Par::Seq);
+    solve_lower_triangular_in_place(lf.as_ref(), x.as_mut(), par());
     to_nalgebra(x.as_ref())
 }
 
@@ -202,7 +261,7 @@ pub fn solve_lower(l: &DMatrix<f64>, b: &DMatrix<f64>) -> DMatrix<f64> {
 pub fn solve_lower_transposed(l: &DMatrix<f64>, b: &DMatrix<f64>) -> DMatrix<f64> {
     let lf = to_faer(l);
     let mut x = to_faer(b);
-    solve_upper_triangular_in_place(lf.transpose(), x.as_mut(), Par::Seq);
+    solve_upper_triangular_in_place(lf.transpose(), x.as_mut(), par());
     to_nalgebra(x.as_ref())
 }
 
@@ -211,22 +270,38 @@ pub fn solve_lower_transposed(l: &DMatrix<f64>, b: &DMatrix<f64>) -> DMatrix<f64
 pub fn congruence_inverse(l: &DMatrix<f64>, k: &DMatrix<f64>) -> DMatrix<f64> {
     let lf = to_faer(l);
     let mut x = to_faer(k);
-    solve_lower_triangular_in_place(lf.as_ref(), x.as_mut(), Par::Seq);
+    solve_lower_triangular_in_place(lf.as_ref(), x.as_mut(), par());
     let mut y = x.transpose().to_owned();
-    solve_lower_triangular_in_place(lf.as_ref(), y.as_mut(), Par::Seq);
+    solve_lower_triangular_in_place(lf.as_ref(), y.as_mut(), par());
     let n = y.nrows();
     DMatrix::from_fn(n, n, |i, j| 0.5 * (y[(i, j)] + y[(j, i)]))
 }
 
 /// The product `A^T B` (A's transpose is not formed).
 pub fn tr_mul(a: &DMatrix<f64>, b: &DMatrix<f64>) -> DMatrix<f64> {
-    let p = to_faer(a).transpose() * to_faer(b);
+    let mut p = Mat::<f64>::zeros(a.ncols(), b.ncols());
+    faer::linalg::matmul::matmul(
+        p.as_mut(),
+        Accum::Replace,
+        to_faer(a).transpose(),
+        to_faer(b).as_ref(),
+        1.0,
+        par(),
+    );
     to_nalgebra(p.as_ref())
 }
 
 /// The product `A B`.
 pub fn mul(a: &DMatrix<f64>, b: &DMatrix<f64>) -> DMatrix<f64> {
-    let p = to_faer(a) * to_faer(b);
+    let mut p = Mat::<f64>::zeros(a.nrows(), b.ncols());
+    faer::linalg::matmul::matmul(
+        p.as_mut(),
+        Accum::Replace,
+        to_faer(a).as_ref(),
+        to_faer(b).as_ref(),
+        1.0,
+        par(),
+    );
     to_nalgebra(p.as_ref())
 }
 
@@ -249,6 +324,41 @@ mod tests {
 
     /// faer's eigen-solver against nalgebra's (a second implementation), and its pairs
     /// against the definition `A v = lambda v`, `V^T V = I`.
+    /// The same bits whatever the thread pool: faer splits its work by [`THREADS`], not
+    /// by the pool's size, so an import writes the same file on any machine. Sizes past
+    /// faer's blocking thresholds, so that its parallel paths run.
+    #[test]
+    fn results_do_not_depend_on_the_pool() {
+        let a = spd(400, 7);
+        let b = spd(400, 11);
+        let run = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| {
+                let (d, v) = sym_eigen(&a).unwrap();
+                let l = cholesky(&b).unwrap();
+                let c = congruence_inverse(&l, &a);
+                (d, v, c, mul(&a, &b), tr_mul(&a, &b))
+            })
+        };
+        let one = run(1);
+        for threads in [2, 5] {
+            let other = run(threads);
+            assert!(
+                one.0
+                    .iter()
+                    .zip(&other.0)
+                    .all(|(x, y)| x.to_bits() == y.to_bits())
+            );
+            assert_eq!(one.1, other.1, "{threads} threads");
+            assert_eq!(one.2, other.2, "{threads} threads");
+            assert_eq!(one.3, other.3, "{threads} threads");
+            assert_eq!(one.4, other.4, "{threads} threads");
+        }
+    }
+
     #[test]
     fn eigen_matches_nalgebra_and_definition() {
         let a = spd(60, 7);

@@ -40,15 +40,14 @@ pub use units::Units;
 
 /// The largest dense problem `import` solves (DOFs, before dead-DOF removal). Above it the
 /// user is asked to reduce in the FE code. The work is O(n^3) (Cholesky, the standard-form
-/// matrix, the symmetric eigen-solver, the products of [`assemble`]; [`dense`]). Measured
-/// on a 2-core machine under a load average of 5 (tests/python/import_sizes.py, a free
+/// matrix, the symmetric eigen-solver, the products of [`assemble`]; [`dense`], on two
+/// threads). Measured on a quiet 2-core machine (tests/python/import_sizes.py, a free
 /// grillage, FXBODY_IMPORT_TIMES for the stages), beside LAPACK's generalised
-/// eigen-solver alone on the same matrices in the same run: 1008 DOFs 1.0 s (LAPACK
-/// 0.5 s), 2040 DOFs 5.7 s (2.7 s), 3000 DOFs 25.6 s (12.7 s; 12 s of it faer's
-/// eigen-solver), 4032 DOFs with the limit lifted 39 s (22 s). With `--fmax` keeping a
-/// few modes (eigenvectors of the kept modes only): 3000 DOFs 14.8 s (9.4 s; 7.9 s of it
-/// the tridiagonal reduction), 4032 DOFs 32 s (24 s). 4000 DOFs is not "seconds" on such
-/// a machine, so the limit stays at 3000.
+/// eigen-solver alone (one thread) on the same matrices in the same run: 1008 DOFs 0.5 s
+/// (LAPACK 0.3 s), 2040 DOFs 2.3 s (1.8 s), 3000 DOFs 7.6 s (5.7 s; 3.2 s of it faer's
+/// eigen-solver, 1.3 s the Cholesky and standard form); with `--fmax 2000` 3000 DOFs
+/// 6.0 s (5.9 s). LAPACK alone takes 15.7 s at 4032 DOFs: past 3000 an import is no
+/// longer a matter of seconds, so the limit stays there.
 pub const MAX_DENSE_DOFS: usize = 3000;
 
 /// Free or blocked, as asked on the command line; `Detect` takes it from K's null space.
