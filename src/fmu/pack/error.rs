@@ -1,0 +1,217 @@
+//! What can go wrong in a pack, each naming the file or option at fault, and the rules
+//! for a model name (`--name`): a file name and a C identifier at once.
+
+use std::path::PathBuf;
+
+use crate::body::LoadError;
+use crate::body::placement::PlacementError;
+use crate::fmu::options::UnknownUnits;
+use crate::fmu::scene_io::SceneError;
+use crate::fmu::zip::ZipError;
+use crate::fxb::coords::CoordsError;
+
+/// Why packing failed: each names the file or option at fault.
+#[derive(Debug, thiserror::Error)]
+pub enum PackError {
+    /// The body file could not be read or is not a valid body.
+    #[error(transparent)]
+    Body(#[from] LoadError),
+    /// The coordinate file could not be read or parsed.
+    #[error(transparent)]
+    Coords(#[from] CoordsError),
+    /// A blocked body and no coordinate file.
+    #[error(
+        "{0}: a blocked body needs node coordinates (a .fxb file holds none): \
+         give --coords with a Radioss /NODE deck or a CSV file id,x,y,z"
+    )]
+    BlockedNeedsCoords(String),
+    /// The coordinate file contradicts the body's rigid modes.
+    #[error(transparent)]
+    Placement(#[from] Box<PlacementError>),
+    /// `--nodes` names a node the body does not have.
+    #[error("--nodes: node {id} is not a node of {body} (its nodes: {nodes})")]
+    UnknownNode {
+        /// The node ID.
+        id: i64,
+        /// The body file.
+        body: String,
+        /// A summary of the body's node IDs.
+        nodes: String,
+    },
+    /// Exposed nodes without coordinates.
+    #[error("{coords}: no coordinates for node(s) {ids} of {body}")]
+    MissingCoordinates {
+        /// The coordinate file, or "derived coordinates".
+        coords: String,
+        /// A summary of the node IDs.
+        ids: String,
+        /// The body file.
+        body: String,
+    },
+    /// `--units` names no known system.
+    #[error(transparent)]
+    Units(#[from] UnknownUnits),
+    /// `--name` is not a usable model name.
+    #[error(transparent)]
+    Name(#[from] NameError),
+    /// No `--name` and the file stem is too long to be one.
+    #[error(
+        "{body}: the model name would be the file name's {chars} characters, more than {MAX_NAME}: give --name"
+    )]
+    StemTooLong {
+        /// The body file.
+        body: String,
+        /// The stem's length in characters.
+        chars: usize,
+    },
+    /// The exposed nodes do not make a scene.
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+    /// `-o` names one of the inputs.
+    #[error(
+        "-o {}: is the same file as the {what} {}: refusing to overwrite an input; choose another output name",
+        .out.display(), .input.display()
+    )]
+    Overwrite {
+        /// The output path.
+        out: PathBuf,
+        /// What the input is ("body file", ...).
+        what: String,
+        /// The input path.
+        input: PathBuf,
+    },
+    /// `--lib` names no file.
+    #[error("--lib {}: no such file", .0.display())]
+    NoLib(PathBuf),
+    /// `FXBODY_LIB` names no file.
+    #[error("FXBODY_LIB={}: no such file", .0.display())]
+    NoEnvLib(PathBuf),
+    /// The running executable's path is unknown (needed to find the library).
+    #[error("cannot locate the running executable: {0}")]
+    Exe(std::io::Error),
+    /// No library next to the executable.
+    #[error(
+        "cannot find the FMU library libfxbody.so (looked at {0}): build it with `cargo build --release`, \
+         or give --lib PATH or FXBODY_LIB"
+    )]
+    LibNotFound(String),
+    /// The library could not be read.
+    #[error("{}: cannot read the library: {source}", .path.display())]
+    ReadLib {
+        /// The library path.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// `--step` or `--stop` not a finite time > 0.
+    #[error("--{what}: expected a time > 0 (s), found {}", crate::num::num(*.value))]
+    Time {
+        /// `step` or `stop`.
+        what: &'static str,
+        /// The value given.
+        value: f64,
+    },
+    /// The step is longer than the stop time.
+    #[error(
+        "--step {} s is longer than the DefaultExperiment stop time {} s{}",
+        crate::num::num(*.step), crate::num::num(*.stop),
+        if *.stop_given { "" } else { " (derived from the body): give --stop too" }
+    )]
+    StepAfterStop {
+        /// The step.
+        step: f64,
+        /// The stop time.
+        stop: f64,
+        /// Whether the stop time was given.
+        stop_given: bool,
+    },
+    /// `--binary` with a bad platform or file.
+    #[error("--binary {platform}={}: {why}", .path.display())]
+    Binary {
+        /// The platform name.
+        platform: String,
+        /// The library path.
+        path: PathBuf,
+        /// Why it was refused.
+        why: String,
+    },
+    /// The OSP model description could not be written.
+    #[error("{}: cannot write the OSP model description: {source}", .path.display())]
+    WriteOsp {
+        /// Its path.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// The archive could not be built.
+    #[error(transparent)]
+    Zip(#[from] ZipError),
+    /// The FMU could not be written.
+    #[error("{}: cannot write the FMU: {source}", .path.display())]
+    WriteFmu {
+        /// The output path.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+}
+
+/// A `--name` that cannot be a model identifier; `shown` is the name as quoted in the
+/// message (cut after 40 characters).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum NameError {
+    /// Empty or longer than [`MAX_NAME`].
+    #[error("--name: expected 1 to {MAX_NAME} characters, found {shown}")]
+    Length {
+        /// The name as shown.
+        shown: String,
+    },
+    /// A character outside letters, digits and `_`.
+    #[error(
+        "--name: expected letters, digits and '_' only (a file name and a C identifier), found {c:?} in {shown}"
+    )]
+    Character {
+        /// The first such character.
+        c: char,
+        /// The name as shown.
+        shown: String,
+    },
+    /// A digit first.
+    #[error("--name: expected a letter or '_' first (a C identifier), found {shown}")]
+    DigitFirst {
+        /// The name as shown.
+        shown: String,
+    },
+}
+
+/// Longest `--name`: the model identifier names the library inside the archive and
+/// the C symbols' prefix; 64 characters keep every path well under tool limits.
+pub const MAX_NAME: usize = 64;
+
+/// Check a model name given by the user: 1 to [`MAX_NAME`] characters, a letter or `_`
+/// first, then letters, digits or `_`, so it is usable unchanged as a file name and a
+/// C identifier (the FMI modelIdentifier).
+pub fn check_name(name: &str) -> Result<(), NameError> {
+    let shown = if name.chars().count() > 40 {
+        format!(
+            "'{}...' ({} characters)",
+            name.chars().take(40).collect::<String>(),
+            name.chars().count()
+        )
+    } else {
+        format!("'{name}'")
+    };
+    if name.is_empty() || name.len() > MAX_NAME {
+        return Err(NameError::Length { shown });
+    }
+    if let Some(c) = name
+        .chars()
+        .find(|c| !(c.is_ascii_alphanumeric() || *c == '_'))
+    {
+        return Err(NameError::Character { c, shown });
+    }
+    if name.starts_with(|c: char| c.is_ascii_digit()) {
+        return Err(NameError::DigitFirst { shown });
+    }
+    Ok(())
+}
