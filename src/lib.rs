@@ -28,3 +28,5 @@ pub mod num;
 pub mod reduce;
 pub mod scene;
 pub mod solver;
+#[cfg(test)]
+mod testing;

@@ -616,13 +616,7 @@ mod tests {
         ] {
             check(t);
         }
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
+        let mut next = crate::testing::xorshift(0x9e37_79b9_7f4a_7c15u64);
         for _ in 0..200_000 {
             let r = next();
             let digits = 1 + (r % 22) as usize;
