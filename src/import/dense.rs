@@ -279,29 +279,18 @@ pub fn congruence_inverse(l: &DMatrix<f64>, k: &DMatrix<f64>) -> DMatrix<f64> {
 
 /// The product `A^T B` (A's transpose is not formed).
 pub fn tr_mul(a: &DMatrix<f64>, b: &DMatrix<f64>) -> DMatrix<f64> {
-    let mut p = Mat::<f64>::zeros(a.ncols(), b.ncols());
-    faer::linalg::matmul::matmul(
-        p.as_mut(),
-        Accum::Replace,
-        to_faer(a).transpose(),
-        to_faer(b).as_ref(),
-        1.0,
-        par(),
-    );
-    to_nalgebra(p.as_ref())
+    product(to_faer(a).transpose(), to_faer(b).as_ref())
 }
 
 /// The product `A B`.
 pub fn mul(a: &DMatrix<f64>, b: &DMatrix<f64>) -> DMatrix<f64> {
-    let mut p = Mat::<f64>::zeros(a.nrows(), b.ncols());
-    faer::linalg::matmul::matmul(
-        p.as_mut(),
-        Accum::Replace,
-        to_faer(a).as_ref(),
-        to_faer(b).as_ref(),
-        1.0,
-        par(),
-    );
+    product(to_faer(a).as_ref(), to_faer(b).as_ref())
+}
+
+/// `lhs rhs` by faer's blocked product with [`par`].
+fn product(lhs: MatRef<'_, f64>, rhs: MatRef<'_, f64>) -> DMatrix<f64> {
+    let mut p = Mat::<f64>::zeros(lhs.nrows(), rhs.ncols());
+    faer::linalg::matmul::matmul(p.as_mut(), Accum::Replace, lhs, rhs, 1.0, par());
     to_nalgebra(p.as_ref())
 }
 
