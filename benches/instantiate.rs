@@ -109,9 +109,7 @@ fn main() {
         let s = so
             .instantiate(&format!("i{i}"), &p.guid, &uri, false)
             .unwrap();
-        s.setup(0.0, None).unwrap();
-        s.enter_init().unwrap();
-        s.exit_init().unwrap();
+        s.initialise(0.0, None).unwrap();
         times.push(t.elapsed().as_secs_f64() * 1e3);
         keep.push(s);
     }

@@ -365,6 +365,14 @@ impl Instance<'_> {
         self.plain("fmi2ExitInitializationMode", self.lib.f.exit_init)
     }
 
+    /// fmi2SetupExperiment, fmi2EnterInitializationMode and fmi2ExitInitializationMode
+    /// in turn: the usual way to a stepping instance, stopping at the first refusal.
+    pub fn initialise(&self, start: f64, stop: Option<f64>) -> Result<(), String> {
+        self.setup(start, stop)?;
+        self.enter_init()?;
+        self.exit_init()
+    }
+
     /// fmi2Terminate.
     pub fn terminate(&self) -> Result<(), String> {
         self.plain("fmi2Terminate", self.lib.f.terminate)

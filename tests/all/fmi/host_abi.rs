@@ -31,9 +31,7 @@ fn started<'a>(lib: &'a FmuLibrary, p: &Prepared, uri: &str) -> Instance<'a> {
     let i = lib
         .instantiate("abi", &p.guid, uri, false)
         .unwrap_or_else(|e| panic!("{uri}: {e}"));
-    i.setup(0.0, None).unwrap();
-    i.enter_init().unwrap();
-    i.exit_init().unwrap();
+    i.initialise(0.0, None).unwrap();
     i
 }
 
@@ -112,9 +110,7 @@ fn a_state_saved_before_initialisation_restores_that_phase() {
     let uri = file_uri(&dir.join("resources"));
     let inst = lib.instantiate("phase", &p.guid, &uri, false).unwrap();
     let fresh = inst.get_state().unwrap();
-    inst.setup(0.0, None).unwrap();
-    inst.enter_init().unwrap();
-    inst.exit_init().unwrap();
+    inst.initialise(0.0, None).unwrap();
     let a = run(&inst, &p, 0, 30);
     inst.set_state(&fresh).unwrap();
     // Back in Instantiated: stepping is illegal until initialisation again.
@@ -124,9 +120,7 @@ fn a_state_saved_before_initialisation_restores_that_phase() {
             .contains("illegal call in state Instantiated")
     );
     inst.set_state(&fresh).unwrap();
-    inst.setup(0.0, None).unwrap();
-    inst.enter_init().unwrap();
-    inst.exit_init().unwrap();
+    inst.initialise(0.0, None).unwrap();
     assert_eq!(run(&inst, &p, 0, 30), a);
     // Parameters: `method` is an Integer; exact=3, implicit=2 are offered, 7 is not.
     let inst2 = lib.instantiate("params", &p.guid, &uri, false).unwrap();
@@ -143,9 +137,7 @@ fn steps_stop_at_a_defined_stop_time_and_need_positive_sizes() {
     let inst = lib
         .instantiate("stop", &p.guid, &file_uri(&dir.join("resources")), false)
         .unwrap();
-    inst.setup(0.5, Some(0.5 + 10.0 * 1e-4)).unwrap();
-    inst.enter_init().unwrap();
-    inst.exit_init().unwrap();
+    inst.initialise(0.5, Some(0.5 + 10.0 * 1e-4)).unwrap();
     // The first step must start at startTime.
     assert!(
         inst.do_step(0.0, 1e-4)
@@ -155,9 +147,7 @@ fn steps_stop_at_a_defined_stop_time_and_need_positive_sizes() {
     let inst = lib
         .instantiate("stop2", &p.guid, &file_uri(&dir.join("resources")), false)
         .unwrap();
-    inst.setup(0.5, Some(0.5 + 10.0 * 1e-4)).unwrap();
-    inst.enter_init().unwrap();
-    inst.exit_init().unwrap();
+    inst.initialise(0.5, Some(0.5 + 10.0 * 1e-4)).unwrap();
     for k in 0..10 {
         inst.do_step(0.5 + k as f64 * 1e-4, 1e-4).unwrap();
     }
@@ -166,9 +156,7 @@ fn steps_stop_at_a_defined_stop_time_and_need_positive_sizes() {
     let inst = lib
         .instantiate("neg", &p.guid, &file_uri(&dir.join("resources")), false)
         .unwrap();
-    inst.setup(0.0, None).unwrap();
-    inst.enter_init().unwrap();
-    inst.exit_init().unwrap();
+    inst.initialise(0.0, None).unwrap();
     let e = inst.do_step(0.0, -1e-4).unwrap_err();
     assert!(e.contains("must be finite and > 0"), "{e}");
     let _ = std::fs::remove_dir_all(&dir);

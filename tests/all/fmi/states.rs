@@ -408,9 +408,7 @@ fn a_state_of_another_fmu_is_refused() {
         fx: &crate::common::fmu::Packed,
     ) -> fxbody_host::Instance<'l> {
         let i = lib.instantiate("guid", &fx.p.guid, &fx.uri, false).unwrap();
-        i.setup(0.0, None).unwrap();
-        i.enter_init().unwrap();
-        i.exit_init().unwrap();
+        i.initialise(0.0, None).unwrap();
         i
     }
     let steps = |i: &fxbody_host::Instance, fx: &crate::common::fmu::Packed, k0, n| {

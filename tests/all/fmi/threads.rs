@@ -72,9 +72,7 @@ fn loaded(fx: &Packed, so: &Path, k: usize, steps: usize) -> Vec<f64> {
     let methods = fx.p.table.methods();
     inst.set_integer(&[fx.vr("method")], &[methods[k % methods.len()] as i32])
         .unwrap();
-    inst.setup(0.0, None).unwrap();
-    inst.enter_init().unwrap();
-    inst.exit_init().unwrap();
+    inst.initialise(0.0, None).unwrap();
     let (f, y, vy) = (
         fx.vr("node_121.fy"),
         fx.vr("node_121.y"),

@@ -127,9 +127,7 @@ fn a_hundred_instances_of_a_two_node_scene_of_a_large_body() {
             let s = so
                 .instantiate(&format!("i{i}"), &p.guid, &uri, false)
                 .unwrap();
-            s.setup(0.0, None).unwrap();
-            s.enter_init().unwrap();
-            s.exit_init().unwrap();
+            s.initialise(0.0, None).unwrap();
             s
         })
         .collect();
