@@ -165,10 +165,7 @@ impl Body {
     /// eigenfrequency is a warning in [`Body::warnings`]. `source` names the file in
     /// messages.
     pub fn from_fxb(file: &FxbFile, source: &str) -> Result<Body, BodyError> {
-        checks::check_raw(file, source)?;
-        let mut body = Body::assemble(file);
-        body.warnings = checks::check_body(&body, source)?;
-        Ok(body)
+        Body::from_fxb_owned(file.clone(), source)
     }
 
     /// [`Body::from_fxb`], taking the file: its mode blocks become the mode matrices
