@@ -3,18 +3,19 @@
 //! state from before the step ("right or loud").
 //!
 //! A method that steps out of place ([`Solver::begin_undoable`]: the exact method) keeps
-//! the state before the step itself: the guard copies nothing, takes the sum of squares the step computed as it
-//! wrote its state ([`Solver::stepped_squares`]) for its bound test, and a refused step is the solver's
-//! [`Solver::undo`]. For the other methods the guard holds two state buffers and copies
-//! the solver state once per step: after the step, into the second buffer, which the
-//! check then reads. An accepted step swaps the two (double buffering): the state after
-//! step k is the saved state before step k+1, so no save runs before a step unless
-//! something else changed the solver in between (building it, restoring an FMU state,
-//! passing loads to read a truncated scene's outputs), which the model reports with
-//! [`StepGuard::forget`]. The buffers are reused: no allocation once each has held one
-//! state. After the step the guard checks the solver state (it holds everything the
-//! future depends on) and the outputs: node positions, velocities and both energies. The outputs are checked as well as the state because
-//! a finite state does not make them finite: they are sums of products of the state
+//! the state before the step itself: the guard copies nothing, takes the sum of squares
+//! the step computed as it wrote its state ([`Solver::stepped_squares`]) for its bound
+//! test, and a refused step is the solver's [`Solver::undo`]. For the other methods the
+//! guard holds two state buffers and copies the solver state once per step: after the
+//! step, into the second buffer, which the check then reads. An accepted step swaps the
+//! two (double buffering): the state after step k is the saved state before step k+1, so
+//! no save runs before a step unless something else changed the solver in between
+//! (building it, restoring an FMU state, passing loads to read a truncated scene's
+//! outputs), which the model reports with [`StepGuard::forget`]. The buffers are reused:
+//! no allocation once each has held one state. After the step the guard checks the solver
+//! state (it holds everything the future depends on) and the outputs: node positions,
+//! velocities and both energies. The outputs are checked as well as the state because a
+//! finite state does not make them finite: they are sums of products of the state
 //! with the body's matrices (and, for a truncated body, with the loads themselves), which
 //! can overflow. On failure the saved state is put back and the message names the first
 //! non-finite variable and the input with the largest magnitude, the usual cause.
