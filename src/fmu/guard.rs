@@ -2,46 +2,72 @@
 //! solver state or in an output a master can read is refused, and the instance keeps its
 //! state from before the step ("right or loud").
 //!
-//! A method that steps out of place ([`Solver::begin_undoable`]: the exact method) keeps
-//! the state before the step itself: the guard copies nothing, takes the sum of squares
-//! the step computed as it wrote its state ([`Solver::stepped_squares`]) for its bound
-//! test, and a refused step is the solver's [`Solver::undo`]. For the other methods the
-//! guard holds two state buffers and copies the solver state once per step: after the
-//! step, into the second buffer, which the check then reads. An accepted step swaps the
-//! two (double buffering): the state after step k is the saved state before step k+1, so
-//! no save runs before a step unless something else changed the solver in between
-//! (building it, restoring an FMU state, passing loads to read a truncated scene's
-//! outputs), which the model reports with [`StepGuard::forget`]. The buffers are reused:
-//! no allocation once each has held one state. After the step the guard checks the solver
-//! state (it holds everything the future depends on) and the outputs: node positions,
-//! velocities and both energies. The outputs are checked as well as the state because a
-//! finite state does not make them finite: they are sums of products of the state
-//! with the body's matrices (and, for a truncated body, with the loads themselves), which
-//! can overflow. On failure the saved state is put back and the message names the first
-//! non-finite variable and the input with the largest magnitude, the usual cause.
+//! Two paths. Where the method bounds a step before it is taken ([`Solver::growth`]: the
+//! exact method, loads held), the guard keeps a running upper bound of the solver's
+//! [`Solver::measure`] and of every load's magnitude (the model reports each load as it
+//! is set, [`StepGuard::note_load`]); when the bound after the step keeps every state
+//! entry and input below [`output_bound`], the step cannot make anything non-finite, so
+//! the guard saves nothing and reads nothing: a few multiplications per step. When the
+//! bound says "maybe" (after a restore, or with a stale load magnitude) it is first
+//! tightened from the actual state and loads; only if that fails too does the step take
+//! the checked path.
+//!
+//! The checked path (every other method, rates on, or a state near the bound) holds two
+//! state buffers and copies the solver state once per step: after the step, into the
+//! second buffer, which the check then reads. An accepted step swaps the two (double
+//! buffering): the state after step k is the saved state before step k+1, so no save
+//! runs before a step unless something else changed the solver in between (building it,
+//! restoring an FMU state, passing loads to read a truncated scene's outputs, a step on
+//! the bounded path), which the model reports with [`StepGuard::forget`]. The buffers are
+//! reused: no allocation once each has held one state. After the step the guard checks
+//! the solver state (it holds everything the future depends on) and the outputs: node
+//! positions, velocities and both energies. The outputs are checked as well as the state
+//! because a finite state does not make them finite: they are sums of products of the
+//! state with the body's matrices (and, for a truncated body, with the loads themselves),
+//! which can overflow. On failure the saved state is put back and the message names the
+//! first non-finite variable and the input with the largest magnitude, the usual cause.
 
 use super::vars::{Kind, VarTable};
 use crate::num::num;
 use crate::scene::Scene;
-use crate::solver::{Method, Solver, SolverError, State};
+use crate::solver::{Growth, Method, Solver, SolverError, State};
 
-/// The rollback buffer and output workspace of one instance.
+/// The rollback buffer, the running bounds and the output workspace of one instance.
 pub struct StepGuard {
     /// The solver state before the coming step (valid when `saved_is_current`).
     saved: State,
     /// The solver state after the last step, checked by [`StepGuard::check`].
     after: State,
-    /// `saved` equals the solver's current state: the last step was accepted (or rolled
-    /// back) and nothing has changed the solver since.
+    /// `saved` equals the solver's current state: the last step was accepted on the
+    /// checked path (or rolled back) and nothing has changed the solver since.
     saved_is_current: bool,
-    /// The running step is undoable by the solver itself: nothing was saved.
-    undoable: bool,
+    /// The running step was bounded before it was taken: nothing was saved.
+    bounded: bool,
+    /// An upper bound of the solver's [`Solver::measure`] now (infinite: unknown).
+    measure: f64,
+    /// The bound of the measure after the running bounded step.
+    next: f64,
+    /// An upper bound of the magnitude of the solver's time now (infinite: unknown),
+    /// and after the running bounded step. Rounding is monotone, so `time + h` rounded
+    /// bounds the solver's own `t + h` rounded.
+    time: f64,
+    next_time: f64,
+    /// The solver's growth for steps of `growth_h` (NaN: none asked for since the
+    /// solver last changed outside a step). Kept here so that a run of equal steps asks
+    /// the solver once; a step of another size asks again, which also makes the solver
+    /// hold that step's coefficients.
+    growth: Growth,
+    growth_h: f64,
+    /// An upper bound of every load's magnitude (each load set raises it; it is
+    /// tightened to the actual largest load when the bound test fails).
+    cap: f64,
     out: Vec<f64>,
     /// Below this magnitude of every state entry and input, every checked output is
     /// certainly finite ([`output_bound`]): the outputs need not be computed.
     bound: f64,
-    /// Below this magnitude of every load, their sum of squares is below `bound^2`.
-    load_limit: f64,
+    /// Tests: never bound a step in advance (the twin every bounded step is compared to).
+    #[cfg(test)]
+    pub checked_only: bool,
 }
 
 /// The largest magnitude `s` of the state entries and inputs under which every output
@@ -85,99 +111,191 @@ impl StepGuard {
     /// A guard for the scene's solver (one row of outputs per exposed node).
     pub fn new(scene: &Scene) -> StepGuard {
         let nodes = scene.nodes.len();
-        let bound = output_bound(scene);
+        let empty = || State {
+            method: Method::Exact,
+            data: Vec::new(),
+        };
         StepGuard {
-            bound,
-            // 0.99: n limit^2 stays below bound^2 whatever the roundings.
-            load_limit: 0.99 * bound / ((6 * nodes).max(1) as f64).sqrt(),
-            saved: State {
-                method: Method::Exact,
-                data: Vec::new(),
-            },
-            after: State {
-                method: Method::Exact,
-                data: Vec::new(),
-            },
+            bound: output_bound(scene),
+            saved: empty(),
+            after: empty(),
             saved_is_current: false,
-            undoable: false,
+            bounded: false,
+            measure: f64::INFINITY,
+            next: f64::INFINITY,
+            time: f64::INFINITY,
+            next_time: f64::INFINITY,
+            growth: Growth {
+                state: f64::INFINITY,
+                load: f64::INFINITY,
+                scale: f64::INFINITY,
+            },
+            growth_h: f64::NAN,
+            cap: 0.0,
             out: vec![0.0; 3 * nodes],
+            #[cfg(test)]
+            checked_only: false,
         }
     }
 
-    /// The magnitude under which every load is small enough for the fast check: a model
-    /// that knows all its loads are below it (and no rate is on) tells
-    /// [`StepGuard::check`] so, which then does not read them.
-    #[inline]
-    pub fn load_limit(&self) -> f64 {
-        self.load_limit
+    /// A load was set to `v` (finite): the running load bound covers it.
+    #[inline(always)]
+    pub fn note_load(&mut self, v: f64) {
+        // Not `f64::max`, whose NaN rule costs instructions: both are finite.
+        let a = v.abs();
+        if a > self.cap {
+            self.cap = a;
+        }
+    }
+
+    /// The loads were replaced wholesale (a restored FMU state): the load bound is their
+    /// largest magnitude.
+    pub fn set_loads(&mut self, loads: &[f64]) {
+        self.cap = largest_magnitude(loads);
+    }
+
+    /// A new solver: forget the old one's state, and size both state buffers for this
+    /// one now, so that its first checked step allocates nothing either (a run of
+    /// bounded steps never fills them).
+    pub fn adopt(&mut self, s: &dyn Solver) {
+        s.state_into(&mut self.saved);
+        s.state_into(&mut self.after);
+        self.forget();
     }
 
     /// The solver was changed outside a step (built, restored, given loads): the next
-    /// [`StepGuard::save`] copies its state again.
+    /// [`StepGuard::begin`] copies its state again where it saves one, and measures it
+    /// again where it bounds the step.
     #[inline]
     pub fn forget(&mut self) {
         self.saved_is_current = false;
+        self.measure = f64::INFINITY;
+        self.time = f64::INFINITY;
+        self.growth_h = f64::NAN;
     }
 
-    /// Before a step (and before the loads it passes): open an undoable step in the
-    /// solver, or where the method cannot, make sure its state is saved: a copy only when
-    /// something changed the solver since the last accepted step (see the module notes).
+    /// Before a step of `h` (and before the loads it passes, `loads`; `rates_on`: some
+    /// rate is nonzero): bound the step where the method can, else make sure the state
+    /// is saved (a copy only when something changed the solver since the last step
+    /// accepted on the checked path, see the module notes).
     #[inline]
-    pub fn begin(&mut self, s: &mut dyn Solver) {
-        self.undoable = s.begin_undoable();
-        if !self.undoable && !self.saved_is_current {
+    pub fn begin(&mut self, s: &mut dyn Solver, h: f64, loads: &[f64], rates_on: bool) {
+        self.bounded = !rates_on && self.bounds(s, h, loads);
+        if !self.bounded && !self.saved_is_current {
             s.state_into(&mut self.saved);
             self.saved_is_current = true;
         }
     }
 
+    /// Whether the step of `h` certainly keeps every state entry and input below the
+    /// bound; sets `next` when it does.
+    #[inline]
+    fn bounds(&mut self, s: &mut dyn Solver, h: f64, loads: &[f64]) -> bool {
+        #[cfg(test)]
+        if self.checked_only {
+            return false;
+        }
+        if h != self.growth_h {
+            match s.growth(h) {
+                Some(g) => (self.growth, self.growth_h) = (g, h),
+                None => return false,
+            }
+        }
+        let g = self.growth;
+        let next = g.state * self.measure + g.load * self.cap;
+        let time = self.time + h;
+        let b = self.bound;
+        if next * g.scale < b && self.cap < b && time < b {
+            (self.next, self.next_time) = (next, time);
+            return true;
+        }
+        self.tighten(s, h, loads)
+    }
+
+    /// [`StepGuard::bounds`] with the measure and the load bound taken afresh from the
+    /// solver and the loads (they may be stale overestimates, or unknown).
+    #[cold]
+    #[inline(never)]
+    fn tighten(&mut self, s: &dyn Solver, h: f64, loads: &[f64]) -> bool {
+        self.measure = s.measure();
+        self.cap = largest_magnitude(loads);
+        self.time = s.time().abs();
+        let g = self.growth;
+        let next = g.state * self.measure + g.load * self.cap;
+        let time = self.time + h;
+        let b = self.bound;
+        if next * g.scale < b && self.cap < b && time < b {
+            (self.next, self.next_time) = (next, time);
+            return true;
+        }
+        false
+    }
+
+    /// Whether the last step begun was bounded in advance (tests).
+    #[cfg(test)]
+    pub fn bounded(&self) -> bool {
+        self.bounded
+    }
+
     /// Put back the state from before the step begun by [`StepGuard::begin`].
     pub fn rollback(&mut self, s: &mut dyn Solver) -> Result<(), SolverError> {
-        if self.undoable {
-            s.undo();
-            self.saved_is_current = false;
-            return Ok(());
+        if self.bounded {
+            // A bounded step is one the method holds the coefficients for, under loads
+            // that are finite: it cannot fail, and its result is not checked. Should it
+            // fail anyway, say that nothing was saved rather than pretend.
+            return Err(SolverError::BadState(
+                "the step was bounded in advance and no state was saved to put back".into(),
+            ));
         }
         let restored = s.set_state(&self.saved);
         self.saved_is_current = restored.is_ok();
+        (self.measure, self.time) = (f64::INFINITY, f64::INFINITY);
         restored
     }
 
     /// Check the step of `h` just taken under `loads` and `rates` (`rates_on`: some rate
-    /// is nonzero; `loads_small`: every load is below [`StepGuard::load_limit`]): the
-    /// first non-finite value, named for the master, or `None` when every checked value
-    /// is finite, in which case the step is accepted and its state becomes the saved one
-    /// for the next step. Inlined into the model's step; the full check is out of line.
+    /// is nonzero): the first non-finite value, named for the master, or `None` when
+    /// every checked value is finite, in which case the step is accepted. A bounded step
+    /// is accepted as it is (its bound becomes the running one); on the checked path the
+    /// state becomes the saved one for the next step. Inlined into the model's step; the
+    /// checked path is out of line.
     #[inline]
     pub fn check(
         &mut self,
         s: &dyn Solver,
         table: &VarTable,
+        inputs: (&[f64], &[f64], bool),
+        h: f64,
+    ) -> Option<String> {
+        if self.bounded {
+            (self.measure, self.time) = (self.next, self.next_time);
+            self.saved_is_current = false;
+            return None;
+        }
+        self.check_state(s, table, inputs, h)
+    }
+
+    /// The checked path of [`StepGuard::check`].
+    #[inline(never)]
+    fn check_state(
+        &mut self,
+        s: &dyn Solver,
+        table: &VarTable,
         (loads, rates, rates_on): (&[f64], &[f64], bool),
-        loads_small: bool,
         h: f64,
     ) -> Option<String> {
         let b = self.bound;
-        let state_below = if self.undoable {
-            // The rest of the state is the held load part: the inputs tested here.
-            s.stepped_squares() < b * b
-        } else {
-            s.state_into(&mut self.after);
-            squares_below(&self.after.data, b)
-        };
-        let inputs_ok = (loads_small && !rates_on) || inputs_below(loads, rates, rates_on, h, b);
-        if state_below && inputs_ok {
-            if !self.undoable {
-                std::mem::swap(&mut self.saved, &mut self.after);
-                self.saved_is_current = true;
-            }
+        s.state_into(&mut self.after);
+        // Measured again at the next bounded step.
+        (self.measure, self.time) = (f64::INFINITY, f64::INFINITY);
+        let state_below = squares_below(&self.after.data, b);
+        if state_below && inputs_below(loads, rates, rates_on, h, b) {
+            std::mem::swap(&mut self.saved, &mut self.after);
+            self.saved_is_current = true;
             return None;
         }
-        if self.undoable {
-            s.state_into(&mut self.after);
-        }
         let bad = self.first_non_finite(s, table);
-        if bad.is_none() && !self.undoable {
+        if bad.is_none() {
             std::mem::swap(&mut self.saved, &mut self.after);
             self.saved_is_current = true;
         }
@@ -293,6 +411,12 @@ fn inputs_below(loads: &[f64], rates: &[f64], rates_on: bool, h: f64, bound: f64
     sum < bound * bound
 }
 
+/// The largest magnitude in `v` (0 when empty; NaN entries are skipped, and loads are
+/// finite anyway).
+fn largest_magnitude(v: &[f64]) -> f64 {
+    v.iter().fold(0.0, |m: f64, x| m.max(x.abs()))
+}
+
 /// The input with the largest magnitude, loads and input rates, as `name = value`: the
 /// likely cause of a non-finite step.
 pub fn largest_input(table: &VarTable, loads: &[f64], rates: &[f64]) -> String {
@@ -328,120 +452,4 @@ pub fn largest_input(table: &VarTable, loads: &[f64], rates: &[f64]) -> String {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::super::model::{Model, Phase};
-    use super::super::vars::Causality;
-
-    /// The fast path's claim, checked against the outputs themselves (an independent
-    /// evaluation): over load magnitudes from 1 to 1e301, every method, on the whole and on
-    /// a truncated cantilever, a step the guard accepts leaves every Real output finite,
-    /// and both paths run (steps accepted below the bound, accepted above it after the
-    /// full check, and refused).
-    #[test]
-    fn an_accepted_step_has_every_output_finite() {
-        let full = crate::fmu::scene_io::cantilever_tip_scene();
-        let (cut, _) = full.truncated(40.0).unwrap();
-        let (mut fast, mut slow, mut refused) = (0, 0, 0);
-        for scene in [full, cut] {
-            for method in [1, 2, 3] {
-                for k in (0..=301).step_by(7) {
-                    let bound = super::output_bound(&scene);
-                    let mut m = Model::new(scene.clone(), "{g}".into());
-                    let vr = |name: &str| m.table.vars.iter().find(|v| v.name == name).unwrap().vr;
-                    let (fy, meth) = (vr("node_121.fy"), vr("method"));
-                    m.set_integer(meth, method, Phase::Configuring).unwrap();
-                    m.setup(0.0, None).unwrap();
-                    let load = 10f64.powi(k);
-                    m.set_reals(&[fy], &[load], Phase::Running).unwrap();
-                    match m.do_step(0.0, 1e-3) {
-                        Err(e) => {
-                            assert!(e.to_string().contains("non-finite"), "{e}");
-                            refused += 1;
-                        }
-                        Ok(_) => {
-                            let outs: Vec<u32> = m
-                                .table
-                                .vars
-                                .iter()
-                                .filter(|v| v.causality == Causality::Output)
-                                .map(|v| v.vr)
-                                .collect();
-                            let mut vals = vec![0.0; outs.len()];
-                            m.get_reals(&outs, &mut vals).unwrap();
-                            assert!(
-                                vals.iter().all(|x| x.is_finite()),
-                                "method {method}, load 1e{k}: {vals:?}"
-                            );
-                            if load < bound {
-                                fast += 1;
-                            } else {
-                                slow += 1;
-                            }
-                        }
-                    }
-                }
-            }
-        }
-        assert!(
-            fast > 0 && slow > 0 && refused > 0,
-            "{fast} {slow} {refused}"
-        );
-    }
-
-    /// Double buffering keeps its promise: wherever the solver changed between steps
-    /// (loads passed to read a truncated scene's outputs, an FMU state restored, a
-    /// method changed), a refused step still leaves the model exactly as before it, and
-    /// accepted steps equal a twin's whose guard saved the state before every step.
-    #[test]
-    fn a_refused_step_restores_after_any_change_between_steps() {
-        let full = crate::fmu::scene_io::cantilever_tip_scene();
-        let (cut, _) = full.truncated(40.0).unwrap();
-        for scene in [full, cut] {
-            let mut m = Model::new(scene.clone(), "{g}".into());
-            let mut twin = Model::new(scene, "{g}".into());
-            let vr = |name: &str| m.table.vars.iter().find(|v| v.name == name).unwrap().vr;
-            let (fy, y) = (vr("node_121.fy"), vr("node_121.y"));
-            for x in [&mut m, &mut twin] {
-                x.setup(0.0, None).unwrap();
-                x.ensure_solver().unwrap();
-            }
-            let h = 1e-3;
-            let mut out = [0.0];
-            let mut older = m.snapshot(0);
-            for k in 0..12 {
-                let f = (k as f64).sin();
-                match k % 4 {
-                    // Reading a truncated scene's position passes the loads to the solver.
-                    1 => {
-                        m.set_reals(&[fy], &[f], Phase::Running).unwrap();
-                        m.get_reals(&[y], &mut out).unwrap();
-                    }
-                    // Back to a state of two steps ago, in both.
-                    2 => {
-                        m.restore(&older).unwrap();
-                        twin.restore(&older).unwrap();
-                    }
-                    _ => older = m.snapshot(0),
-                }
-                for x in [&mut m, &mut twin] {
-                    x.set_reals(&[fy], &[f], Phase::Running).unwrap();
-                }
-                let t = m.time();
-                // A huge load is refused and leaves everything as it was.
-                let before = m.snapshot(0);
-                m.set_reals(&[fy], &[f64::MAX], Phase::Running).unwrap();
-                assert!(m.do_step(t, h).is_err());
-                m.set_reals(&[fy], &[f], Phase::Running).unwrap();
-                assert_eq!(m.snapshot(0), before, "step {k}");
-                // The twin never saw a refused step or a read, and its guard copies the
-                // state before every step (a restore makes it forget the buffer).
-                let s = twin.snapshot(0);
-                twin.restore(&s).unwrap();
-                m.do_step(t, h).unwrap();
-                twin.do_step(t, h).unwrap();
-                let (a, b) = (m.snapshot(0), twin.snapshot(0));
-                assert_eq!(a.solver, b.solver, "step {k}");
-            }
-        }
-    }
-}
+mod tests;

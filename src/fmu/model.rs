@@ -39,14 +39,12 @@ pub struct Model {
     loads: Vec<f64>,
     rates: Vec<f64>,
     solver: Option<Box<dyn Solver>>,
+    /// The solver can raise warnings ([`Solver::can_warn`]), asked when it is built.
+    solver_warns: bool,
     /// Parameters changed since the solver was built.
     dirty: bool,
     /// Loads changed since they were last passed to the solver.
     loads_dirty: bool,
-    /// How many loads are at or above the guard's per-load limit
-    /// ([`StepGuard::load_limit`]), kept as they are set: with none and no rate on, the
-    /// step guard knows the inputs are below its bound without reading them.
-    large_loads: usize,
     /// An input rate was written since the rates were last cleared: only then can one
     /// be nonzero (read by [`any_nonzero`] before a step).
     rates_written: bool,
@@ -93,9 +91,9 @@ impl Model {
             loads: vec![0.0; 6 * m],
             rates: vec![0.0; 6 * m],
             solver: None,
+            solver_warns: false,
             dirty: true,
             loads_dirty: true,
-            large_loads: 0,
             rates_applied: false,
             rates_written: false,
             pos: vec![0.0; 3 * m],
@@ -109,6 +107,12 @@ impl Model {
             time: 0.0,
             scene,
         }
+    }
+
+    /// The step guard (tests).
+    #[cfg(test)]
+    pub(crate) fn guard_mut(&mut self) -> &mut StepGuard {
+        &mut self.guard
     }
 
     /// The scene.
@@ -162,8 +166,9 @@ impl Model {
                 source,
             }
         })?;
+        self.solver_warns = s.can_warn();
+        self.guard.adopt(s.as_ref());
         self.solver = Some(s);
-        self.guard.forget();
         self.dirty = false;
         self.loads_dirty = true;
         self.rates_applied = true;
@@ -282,19 +287,38 @@ impl Model {
                 self.scene.w0[c] = v;
                 self.dirty = true;
             }
-            Kind::Load { node, comp } => {
-                let slot = &mut self.loads[6 * node + comp];
-                if slot.to_bits() != v.to_bits() {
-                    let limit = self.guard.load_limit();
-                    // Loads are finite (checked): `>=` is the complement of `<`.
-                    self.large_loads = self.large_loads + usize::from(v.abs() >= limit)
-                        - usize::from(slot.abs() >= limit);
-                    *slot = v;
-                    self.loads_dirty = true;
-                }
-            }
+            Kind::Load { node, comp } => self.store_load(6 * node + comp, v),
             _ => unreachable!("check_settable refuses outputs"),
         }
+    }
+
+    /// Store load `k` (finite), noting a change for the solver and the step guard.
+    #[inline(always)]
+    fn store_load(&mut self, k: usize, v: f64) {
+        let slot = &mut self.loads[k];
+        if slot.to_bits() != v.to_bits() {
+            *slot = v;
+            self.loads_dirty = true;
+            self.guard.note_load(v);
+        }
+    }
+
+    /// The common fmi2SetReal in a step loop: `vr` is a load (an input, settable in
+    /// every phase) and `v` finite, stored as [`Model::set_real`] would. `false`, with
+    /// nothing changed, for anything else, which then takes [`Model::set_reals`] and its
+    /// messages.
+    #[inline(always)]
+    pub fn set_load(&mut self, vr: u32, v: f64) -> bool {
+        let Some(Kind::Load { node, comp }) = self.table.get(vr).map(|var| var.kind) else {
+            return false;
+        };
+        // Finite: `<= MAX` fails for infinities and NaN alike (`is_finite` compiles to a
+        // bit-pattern classification).
+        let finite = v.abs() <= f64::MAX;
+        if finite {
+            self.store_load(6 * node + comp, v);
+        }
+        finite
     }
 
     /// Set Integer variables: all or none, like [`Model::set_reals`].
@@ -490,8 +514,7 @@ impl Model {
         self.stop_time = snap.stop_time;
         self.time = snap.time;
         self.loads.copy_from_slice(&snap.loads);
-        let limit = self.guard.load_limit();
-        self.large_loads = self.loads.iter().filter(|l| l.abs() >= limit).count();
+        self.guard.set_loads(&self.loads);
         self.rates.copy_from_slice(&snap.rates);
         self.rates_written = true;
         self.loads_dirty = true;

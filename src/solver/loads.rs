@@ -81,14 +81,6 @@ impl Loads {
         self.rates.copy_from_slice(rates);
     }
 
-    /// Take the values, rates and time of `other` (same length), reusing the storage:
-    /// the exact method's copy of the held load for [`super::Solver::undo`].
-    pub fn copy_from(&mut self, other: &Loads) {
-        self.values.copy_from_slice(&other.values);
-        self.rates.copy_from_slice(&other.rates);
-        self.t_set = other.t_set;
-    }
-
     /// Number of state values (either layout).
     pub fn state_len(&self) -> usize {
         2 * self.values.len() + 1

@@ -150,6 +150,22 @@ pub struct State {
     pub data: Vec<f64>,
 }
 
+/// What one step can do to a solver's state, bounded before it is taken
+/// ([`Solver::growth`]): with `m` the [`Solver::measure`] before the step and every load
+/// at most `cap` in magnitude (held, no rate on), the measure after it is at most
+/// `state m + load cap`, and every number of the state besides the time and the held
+/// loads is at most `scale` times the measure. Rounding is included. The same for every
+/// step of the same size on the same solver.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Growth {
+    /// Factor on the measure before the step.
+    pub state: f64,
+    /// Factor on the largest load magnitude.
+    pub load: f64,
+    /// Largest state entry per unit of the measure.
+    pub scale: f64,
+}
+
 /// The frame of a free body: position of L0 and P (row-major).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Frame {
@@ -220,34 +236,30 @@ pub trait Solver: Send {
     fn state_into(&self, out: &mut State) {
         *out = self.state();
     }
-    /// Out-of-place stepping, for the FMU's step guard: open a step that
-    /// [`Solver::undo`] can take back without any copy of the state. Until `undo`, the
-    /// next `begin_undoable` or `set_state`, the method keeps what it overwrites: the
-    /// held loads and rates before the first `set_loads` or `set_load_rates`, and the
-    /// state before `step` (a step reads one buffer and writes the other). `false`
-    /// where the method cannot: the caller then saves the state itself
-    /// ([`Solver::state_into`]). The default is `false`.
-    fn begin_undoable(&mut self) -> bool {
-        false
+    /// How far a step of `h` under held loads (no rate on) can carry
+    /// [`Solver::measure`], known before the step: the FMU's step guard then knows that
+    /// the step cannot overflow without saving the state or reading the result. Where a
+    /// method gives it, it also holds the coefficients of that step, so that the step
+    /// cannot fail, and keeps them until a step of another size. `None` (the default)
+    /// where the method has no such bound: the guard saves the state and checks the
+    /// result.
+    fn growth(&mut self, _h: f64) -> Option<Growth> {
+        None
     }
-    /// Put back, bit for bit, the state at the last [`Solver::begin_undoable`] that
-    /// returned `true` (loads and rates passed since, and the step taken), and close it.
-    /// Nothing to do when none is open.
-    fn undo(&mut self) {}
-    /// The sum of squares of every number the last step wrote (the time and, for the
-    /// exact method, the modal amplitudes and velocities), computed by the step as it
-    /// writes them: NaN or infinite when one is not finite or the sum overflows. The
-    /// step guard's bound test where no copy of the state is made; everything else in
-    /// the state is the held load part, which equals the loads and rates the caller
-    /// passed. Meaningful for a method whose [`Solver::begin_undoable`] returns `true`;
-    /// the default, infinity, sends every step to the full check.
-    fn stepped_squares(&self) -> f64 {
+    /// The norm [`Solver::growth`] bounds (for the exact method the energy norm of the
+    /// modal state), rounded up; infinite where the method has none.
+    fn measure(&self) -> f64 {
         f64::INFINITY
     }
     /// A warning the last step raised (for example a spin rate approaching the first
     /// local mode's frequency), taken once: the FMU returns fmi2Warning with it.
     fn take_warning(&mut self) -> Option<String> {
         None
+    }
+    /// Whether [`Solver::take_warning`] can ever return one: asked once per solver, so
+    /// that a method that never warns costs its caller no call per step.
+    fn can_warn(&self) -> bool {
+        false
     }
 }
 

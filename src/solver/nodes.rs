@@ -177,14 +177,6 @@ impl Exposed {
         self.rows_dot(3, c.as_slice(), None, out);
     }
 
-    /// Put back a held load kept by [`Loads::copy_from`] and re-project it: the same
-    /// bits as when it was first set.
-    pub fn set_held(&mut self, held: &Loads) {
-        self.held.copy_from(held);
-        self.project_loads();
-        self.project_rates();
-    }
-
     /// Length of the saved load part: `t_set`, loads, rates.
     pub fn saved_len(&self) -> usize {
         self.held.state_len()

@@ -16,12 +16,13 @@ impl Model {
         let Some(s) = self.solver.as_mut() else {
             return Err(ModelError::NoSolver);
         };
-        // The state before the step, put back if the step fails or leaves a non-finite
-        // number anywhere (guard.rs): a refused step changes nothing. The exact method
-        // keeps it itself (out-of-place stepping); for the others, after an accepted step
-        // the guard already holds it, and this copies nothing.
-        self.guard.begin(s.as_mut());
+        // Either the step is bounded in advance and cannot make anything non-finite, or
+        // the state before it is saved, to be put back if the step fails or leaves a
+        // non-finite number anywhere (guard.rs): a refused step changes nothing. After
+        // an accepted checked step the guard already holds that state, and this copies
+        // nothing.
         let rates_on = self.rates_written && any_nonzero(&self.rates);
+        self.guard.begin(s.as_mut(), h, &self.loads, rates_on);
         let stepped = step_solver(
             s.as_mut(),
             h,
@@ -37,7 +38,6 @@ impl Model {
                     s.as_ref(),
                     &self.table,
                     (&self.loads, &self.rates, rates_on),
-                    self.large_loads == 0,
                     h,
                 )
                 .map(|what| {
@@ -68,7 +68,11 @@ impl Model {
         }
         // Zero now, whether cleared here or all zero already.
         self.rates_written = false;
-        let warning = s.take_warning();
+        let warning = if self.solver_warns {
+            s.take_warning()
+        } else {
+            None
+        };
         // Adopt the master's time so that round-off does not accumulate against it.
         self.time = t + h;
         Ok(warning)

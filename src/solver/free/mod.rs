@@ -73,6 +73,10 @@ macro_rules! free_solver_common {
         fn take_warning(&mut self) -> Option<String> {
             self.warning.take()
         }
+
+        fn can_warn(&self) -> bool {
+            true
+        }
     };
 }
 
