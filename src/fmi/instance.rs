@@ -164,14 +164,15 @@ pub fn enter(
         if inst.log.enabled[LOG_CALLS] {
             inst.log.send(fmi2OK, LOG_CALLS, func);
         }
-        catch_unwind(AssertUnwindSafe(|| body(inst)))
+        // A refusal is logged inside, so that what crosses the unwind boundary is the
+        // status alone (a small value, not the error moved about on every call).
+        catch_unwind(AssertUnwindSafe(|| match body(inst) {
+            Ok(status) => status,
+            Err(error) => failed(inst, func, error),
+        }))
     };
     match result {
-        Ok(Ok(status)) => status,
-        Ok(Err(error)) => {
-            // SAFETY: as above; the borrow inside the closure has ended.
-            failed(unsafe { &mut *ptr }, func, error)
-        }
+        Ok(status) => status,
         Err(panic) => {
             // SAFETY: as above; the borrow inside the closure has ended.
             panicked(unsafe { &mut *ptr }, func, panic)

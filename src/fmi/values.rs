@@ -29,13 +29,39 @@ pub unsafe extern "C" fn fmi2GetReal(
     value: *mut fmi2Real,
 ) -> fmi2Status {
     enter(c, "fmi2GetReal", state::GET, |inst| {
-        // SAFETY: `vr` holds `nvr` value references (FMI contract).
-        let vrs = unsafe { slice(vr, nvr, "vr") }?;
-        // SAFETY: `value` holds `nvr` writable reals, distinct from `vr`.
-        let out = unsafe { slice_mut(value, nvr, "value") }?;
-        inst.model.get_reals(vrs, out)?;
-        Ok(fmi2OK)
+        // The step loop's call, one position the method gives alone: read on
+        // comparisons alone. Anything else takes the general path with its messages.
+        if nvr == 1 && !vr.is_null() && !value.is_null() {
+            // SAFETY: `vr` is non-null and holds `nvr` = 1 element.
+            let r = unsafe { *vr };
+            if let Some(x) = inst.model.get_position(r) {
+                // SAFETY: `value` is non-null and holds 1 writable element.
+                unsafe { *value = x };
+                return Ok(fmi2OK);
+            }
+        }
+        // SAFETY: the caller's contract, passed on.
+        unsafe { get_reals(inst, vr, nvr, value) }
     })
+}
+
+/// fmi2GetReal's general path, out of line so that the one-position path stays small.
+///
+/// # Safety
+/// `vr` holds `nvr` elements, `value` `nvr` writable ones, distinct from `vr`.
+#[inline(never)]
+unsafe fn get_reals(
+    inst: &mut Instance,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *mut fmi2Real,
+) -> Outcome {
+    // SAFETY: `vr` holds `nvr` value references (FMI contract).
+    let vrs = unsafe { slice(vr, nvr, "vr") }?;
+    // SAFETY: `value` holds `nvr` writable reals, distinct from `vr`.
+    let out = unsafe { slice_mut(value, nvr, "value") }?;
+    inst.model.get_reals(vrs, out)?;
+    Ok(fmi2OK)
 }
 
 /// Get Integer variables (the parameter `method`).
@@ -116,13 +142,38 @@ pub unsafe extern "C" fn fmi2SetReal(
     value: *const fmi2Real,
 ) -> fmi2Status {
     enter(c, "fmi2SetReal", state::SET, |inst| {
-        // SAFETY: `vr` holds `nvr` value references.
-        let vrs = unsafe { slice(vr, nvr, "vr") }?;
-        // SAFETY: `value` holds `nvr` reals.
-        let vals = unsafe { slice(value, nvr, "value") }?;
-        inst.model.set_reals(vrs, vals, phase(inst.state))?;
-        Ok(fmi2OK)
+        // The step loop's call, one load: stored on comparisons alone. Anything else
+        // (several values, a parameter, a value to refuse) takes the general path with
+        // its messages.
+        if nvr == 1 && !vr.is_null() && !value.is_null() {
+            // SAFETY: both are non-null and hold `nvr` = 1 element.
+            let (r, v) = unsafe { (*vr, *value) };
+            if inst.model.set_load(r, v) {
+                return Ok(fmi2OK);
+            }
+        }
+        // SAFETY: the caller's contract, passed on.
+        unsafe { set_reals(inst, vr, nvr, value) }
     })
+}
+
+/// fmi2SetReal's general path, out of line so that the one-load path stays small.
+///
+/// # Safety
+/// `vr` and `value` hold `nvr` elements.
+#[inline(never)]
+unsafe fn set_reals(
+    inst: &mut Instance,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *const fmi2Real,
+) -> Outcome {
+    // SAFETY: `vr` holds `nvr` value references.
+    let vrs = unsafe { slice(vr, nvr, "vr") }?;
+    // SAFETY: `value` holds `nvr` reals.
+    let vals = unsafe { slice(value, nvr, "value") }?;
+    inst.model.set_reals(vrs, vals, phase(inst.state))?;
+    Ok(fmi2OK)
 }
 
 /// Set Integer variables (the parameter `method`).

@@ -91,6 +91,21 @@ impl Model {
         Ok(())
     }
 
+    /// The common fmi2GetReal in a step loop: `vr` is a position that the solver, built
+    /// and current, gives alone ([`crate::solver::Solver::position`]), with no loads to
+    /// pass first; the same bits as [`Model::get_reals`]. `None` for anything else, which
+    /// then takes `get_reals` and its messages.
+    #[inline(always)]
+    pub fn get_position(&self, vr: u32) -> Option<f64> {
+        let Some(Kind::Position { node, comp }) = self.table.get(vr).map(|var| var.kind) else {
+            return None;
+        };
+        if self.dirty || (self.loads_dirty && self.scene.residual.is_some()) {
+            return None;
+        }
+        self.solver.as_ref()?.position(3 * node + comp)
+    }
+
     /// Derivative of order 1 or 2 of an output (fmi2GetRealOutputDerivatives): positions
     /// give velocities and accelerations, velocities give accelerations (order 1). On a
     /// blocked body, whose rotations are linear in the modes, rotations likewise give
