@@ -282,18 +282,21 @@ pub unsafe extern "C" fn fmi2DoStep(
 ) -> fmi2Status {
     let _ = noSetFMUStatePriorToCurrentPoint; // not needed by this FMU
     enter(c, "fmi2DoStep", state::DO_STEP, |inst| {
-        match inst
+        let warned = inst
             .model
-            .do_step(currentCommunicationPoint, communicationStepSize)?
-        {
-            Some(warning) => {
-                inst.log
-                    .send(fmi2Warning, LOG_WARNING, &format!("fmi2DoStep: {warning}"));
-                Ok(fmi2Warning)
-            }
-            None => Ok(fmi2OK),
-        }
+            .step(currentCommunicationPoint, communicationStepSize)?;
+        Ok(if warned { step_warning(inst) } else { fmi2OK })
     })
+}
+
+/// A completed step with a warning: logged, fmi2Warning. Out of the step path.
+#[cold]
+#[inline(never)]
+fn step_warning(inst: &mut Instance) -> fmi2Status {
+    let warning = inst.model.take_warning().unwrap_or_default();
+    inst.log
+        .send(fmi2Warning, LOG_WARNING, &format!("fmi2DoStep: {warning}"));
+    fmi2Warning
 }
 
 /// Only legal while an asynchronous step runs, which never happens here.

@@ -162,7 +162,7 @@ pub fn enter(
             return illegal(inst, func, mask);
         }
         if inst.log.enabled[LOG_CALLS] {
-            inst.log.send(fmi2OK, LOG_CALLS, func);
+            log_call(inst, func);
         }
         // A refusal is logged inside, so that what crosses the unwind boundary is the
         // status alone (a small value, not the error moved about on every call).
@@ -178,6 +178,13 @@ pub fn enter(
             panicked(unsafe { &mut *ptr }, func, panic)
         }
     }
+}
+
+/// The `logCalls` line of a call, out of the call's way.
+#[cold]
+#[inline(never)]
+fn log_call(inst: &Instance, func: &str) {
+    inst.log.send(fmi2OK, LOG_CALLS, func);
 }
 
 /// A call not allowed in the instance's state: logged; outside Error the instance

@@ -253,31 +253,24 @@ impl StepGuard {
         restored
     }
 
-    /// Check the step of `h` just taken under `loads` and `rates` (`rates_on`: some rate
-    /// is nonzero): the first non-finite value, named for the master, or `None` when
-    /// every checked value is finite, in which case the step is accepted. A bounded step
-    /// is accepted as it is (its bound becomes the running one); on the checked path the
-    /// state becomes the saved one for the next step. Inlined into the model's step; the
-    /// checked path is out of line.
+    /// After a step begun bounded: accept it as it is (its bound becomes the running
+    /// one) and say so; `false` after a step begun on the checked path, which
+    /// [`StepGuard::check`] then checks.
     #[inline]
-    pub fn check(
-        &mut self,
-        s: &dyn Solver,
-        table: &VarTable,
-        inputs: (&[f64], &[f64], bool),
-        h: f64,
-    ) -> Option<String> {
+    pub fn accept_bounded(&mut self) -> bool {
         if self.bounded {
             (self.measure, self.time) = (self.next, self.next_time);
             self.saved_is_current = false;
-            return None;
         }
-        self.check_state(s, table, inputs, h)
+        self.bounded
     }
 
-    /// The checked path of [`StepGuard::check`].
+    /// Check the step of `h` just taken on the checked path under `loads` and `rates`
+    /// (`rates_on`: some rate is nonzero): the first non-finite value, named for the
+    /// master, or `None` when every checked value is finite, in which case the step is
+    /// accepted and its state becomes the saved one for the next step.
     #[inline(never)]
-    fn check_state(
+    pub fn check(
         &mut self,
         s: &dyn Solver,
         table: &VarTable,

@@ -41,6 +41,8 @@ pub struct Model {
     solver: Option<Box<dyn Solver>>,
     /// The solver can raise warnings ([`Solver::can_warn`]), asked when it is built.
     solver_warns: bool,
+    /// The last step's warning, until taken.
+    warning: Option<String>,
     /// Parameters changed since the solver was built.
     dirty: bool,
     /// Loads changed since they were last passed to the solver.
@@ -92,6 +94,7 @@ impl Model {
             rates: vec![0.0; 6 * m],
             solver: None,
             solver_warns: false,
+            warning: None,
             dirty: true,
             loads_dirty: true,
             rates_applied: false,

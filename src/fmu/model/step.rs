@@ -7,10 +7,17 @@ use crate::solver::{Solver, SolverError};
 
 impl Model {
     /// One communication step from `t` to `t + h`. `Ok(Some(text))` is a completed step
-    /// with a warning for the master (fmi2Warning). Inlined into fmi2DoStep, its one
-    /// caller on the step path; refusing is out of line.
-    #[inline]
+    /// with a warning for the master (fmi2Warning).
     pub fn do_step(&mut self, t: f64, h: f64) -> Result<Option<String>, ModelError> {
+        let warned = self.step(t, h)?;
+        Ok(if warned { self.warning.take() } else { None })
+    }
+
+    /// [`Model::do_step`] without moving the warning: `Ok(true)` is a completed step with
+    /// a warning, which [`Model::take_warning`] gives. Inlined into fmi2DoStep, its one
+    /// caller on the step path; refusing is out of line.
+    #[inline(always)]
+    pub fn step(&mut self, t: f64, h: f64) -> Result<bool, ModelError> {
         check_step_times(t, h, self.time, self.start_time, self.stop_time)?;
         self.ensure_solver()?;
         let Some(s) = self.solver.as_mut() else {
@@ -31,35 +38,19 @@ impl Model {
             self.loads_dirty || self.rates_applied || rates_on,
             rates_on || self.rates_applied,
         );
-        let bad = match stepped {
-            Ok(()) => self
-                .guard
-                .check(
-                    s.as_ref(),
-                    &self.table,
-                    (&self.loads, &self.rates, rates_on),
-                    h,
-                )
-                .map(|what| {
-                    let cause = SolverError::NonFinite {
-                        what,
-                        cause: format!(
-                            "largest input: {}",
-                            largest_input(&self.table, &self.loads, &self.rates)
-                        ),
-                    };
-                    (cause, None)
-                }),
-            // A solver refusal (frame no longer a rotation, budget, singular system) under a
-            // load names that load too: it is usually the cause.
-            Err(e) if self.loads.iter().chain(&self.rates).any(|&x| x != 0.0) => Some((
-                e,
-                Some(largest_input(&self.table, &self.loads, &self.rates)),
-            )),
-            Err(e) => Some((e, None)),
-        };
-        if let Some((cause, largest_input)) = bad {
-            return Err(self.refuse(t, h, cause, largest_input));
+        // Refusals are out of line: the step path builds no message.
+        if let Err(e) = stepped {
+            return Err(self.refuse_failed(t, h, e));
+        }
+        if !self.guard.accept_bounded()
+            && let Some(what) = self.guard.check(
+                s.as_ref(),
+                &self.table,
+                (&self.loads, &self.rates, rates_on),
+                h,
+            )
+        {
+            return Err(self.refuse_non_finite(t, h, what));
         }
         self.loads_dirty = false;
         self.rates_applied = rates_on;
@@ -68,14 +59,42 @@ impl Model {
         }
         // Zero now, whether cleared here or all zero already.
         self.rates_written = false;
-        let warning = if self.solver_warns {
-            s.take_warning()
-        } else {
-            None
+        let warned = self.solver_warns && {
+            self.warning = s.take_warning();
+            self.warning.is_some()
         };
         // Adopt the master's time so that round-off does not accumulate against it.
         self.time = t + h;
-        Ok(warning)
+        Ok(warned)
+    }
+
+    /// The warning of the last step that returned `Ok(true)` from [`Model::step`].
+    pub fn take_warning(&mut self) -> Option<String> {
+        self.warning.take()
+    }
+
+    /// A step the solver refused (frame no longer a rotation, budget, singular system):
+    /// under a load, that load is named too, being the usual cause.
+    #[cold]
+    #[inline(never)]
+    fn refuse_failed(&mut self, t: f64, h: f64, e: SolverError) -> ModelError {
+        let loaded = self.loads.iter().chain(&self.rates).any(|&x| x != 0.0);
+        let largest = loaded.then(|| largest_input(&self.table, &self.loads, &self.rates));
+        self.refuse(t, h, e, largest)
+    }
+
+    /// A step the guard refused: `what` would have become non-finite.
+    #[cold]
+    #[inline(never)]
+    fn refuse_non_finite(&mut self, t: f64, h: f64, what: String) -> ModelError {
+        let cause = SolverError::NonFinite {
+            what,
+            cause: format!(
+                "largest input: {}",
+                largest_input(&self.table, &self.loads, &self.rates)
+            ),
+        };
+        self.refuse(t, h, cause, None)
     }
 
     /// Put the state from before a refused step back and say why it was refused.
