@@ -201,15 +201,23 @@ impl StepGuard {
                 None => return false,
             }
         }
+        self.within(h) || self.tighten(s, h, loads)
+    }
+
+    /// The test of [`StepGuard::bounds`] on the running bounds: the bound after a step
+    /// of `h` keeps every state entry, load and the time below the output bound; sets
+    /// `next` and `next_time` when it does.
+    #[inline(always)]
+    fn within(&mut self, h: f64) -> bool {
         let g = self.growth;
         let next = g.state * self.measure + g.load * self.cap;
         let time = self.time + h;
         let b = self.bound;
-        if next * g.scale < b && self.cap < b && time < b {
+        let ok = next * g.scale < b && self.cap < b && time < b;
+        if ok {
             (self.next, self.next_time) = (next, time);
-            return true;
         }
-        self.tighten(s, h, loads)
+        ok
     }
 
     /// [`StepGuard::bounds`] with the measure and the load bound taken afresh from the
@@ -220,15 +228,7 @@ impl StepGuard {
         self.measure = s.measure();
         self.cap = largest_magnitude(loads);
         self.time = s.time().abs();
-        let g = self.growth;
-        let next = g.state * self.measure + g.load * self.cap;
-        let time = self.time + h;
-        let b = self.bound;
-        if next * g.scale < b && self.cap < b && time < b {
-            (self.next, self.next_time) = (next, time);
-            return true;
-        }
-        false
+        self.within(h)
     }
 
     /// Whether the last step begun was bounded in advance (tests).

@@ -4,6 +4,20 @@
 use crate::fmu::model::{Model, Phase};
 use crate::fmu::vars::Causality;
 
+/// Every Real output of `m`, read through the model as a master reads them.
+fn outputs(m: &mut Model) -> Vec<f64> {
+    let outs: Vec<u32> = m
+        .table
+        .vars
+        .iter()
+        .filter(|v| v.causality == Causality::Output)
+        .map(|v| v.vr)
+        .collect();
+    let mut vals = vec![0.0; outs.len()];
+    m.get_reals(&outs, &mut vals).unwrap();
+    vals
+}
+
 /// The fast path's claim, checked against the outputs themselves (an independent
 /// evaluation): over load magnitudes from 1 to 1e301, every method, on the whole and on
 /// a truncated cantilever, a step the guard accepts leaves every Real output finite,
@@ -31,15 +45,7 @@ fn an_accepted_step_has_every_output_finite() {
                         refused += 1;
                     }
                     Ok(_) => {
-                        let outs: Vec<u32> = m
-                            .table
-                            .vars
-                            .iter()
-                            .filter(|v| v.causality == Causality::Output)
-                            .map(|v| v.vr)
-                            .collect();
-                        let mut vals = vec![0.0; outs.len()];
-                        m.get_reals(&outs, &mut vals).unwrap();
+                        let vals = outputs(&mut m);
                         assert!(
                             vals.iter().all(|x| x.is_finite()),
                             "method {method}, load 1e{k}: {vals:?}"
@@ -130,13 +136,6 @@ fn a_bounded_step_is_one_the_checked_path_accepts_alike() {
     let mut twin = Model::new(scene, "{g}".into());
     let vr = |name: &str| m.table.vars.iter().find(|v| v.name == name).unwrap().vr;
     let (fy, meth) = (vr("node_121.fy"), vr("method"));
-    let outs: Vec<u32> = m
-        .table
-        .vars
-        .iter()
-        .filter(|v| v.causality == Causality::Output)
-        .map(|v| v.vr)
-        .collect();
     for x in [&mut m, &mut twin] {
         x.set_integer(meth, 3, Phase::Configuring).unwrap();
         x.setup(0.0, None).unwrap();
@@ -145,7 +144,6 @@ fn a_bounded_step_is_one_the_checked_path_accepts_alike() {
     twin.guard_mut().checked_only = true;
     let start = m.snapshot(0);
     let (mut bounded, mut checked, mut refused) = (0, 0, 0);
-    let mut vals = vec![0.0; outs.len()];
     for k in 0..400usize {
         if k % 25 == 0 {
             // Back to the start (the guard measures the state again).
@@ -170,7 +168,7 @@ fn a_bounded_step_is_one_the_checked_path_accepts_alike() {
             refused += 1;
             continue;
         }
-        m.get_reals(&outs, &mut vals).unwrap();
+        let vals = outputs(&mut m);
         assert!(vals.iter().all(|x| x.is_finite()), "step {k}: {vals:?}");
         if m.guard_mut().bounded() {
             bounded += 1;
