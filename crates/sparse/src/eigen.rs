@@ -173,7 +173,7 @@ impl<'a> Solver<'a> {
             ),
         };
         let analysis = Analysis::new(&k.add_scaled(-lambda_max, m)?)?;
-        let count = inertia(k, m, &analysis, lambda_max)?.negative;
+        let count = count_below(k, m, &analysis, lambda_max)?;
         let a = k.add_scaled(-sigma, m)?;
         let factor = Factor::new(&analysis, &a, sigma)?;
         if let Some(index) = factor.first_non_positive_relative(&a, 1e-13) {
@@ -328,6 +328,39 @@ impl<'a> Solver<'a> {
             runs,
         })
     }
+}
+
+/// Relative moves of the count's shift tried when `K - lambda_max M` has a zero or
+/// tiny pivot (LDL^T without pivoting can meet one even when `lambda_max` is no
+/// eigenvalue): an eigenvalue that close to the limit is on it, to the precision of any
+/// frequency.
+const COUNT_NUDGE: [f64; 3] = [0.0, -1e-9, 1e-9];
+
+/// The number of eigenvalues below `lambda_max` (Sylvester's inertia of
+/// `K - lambda_max M`), the shift nudged by [`COUNT_NUDGE`] if a pivot is zero or below
+/// 1e-12 of its row's diagonal term.
+fn count_below(
+    k: &SymCsc,
+    m: &SymCsc,
+    analysis: &Analysis,
+    lambda_max: f64,
+) -> Result<usize, SolveError> {
+    let mut last = None;
+    for nudge in COUNT_NUDGE {
+        let sigma = lambda_max * (1.0 + nudge);
+        let a = k.add_scaled(-sigma, m)?;
+        match Factor::new(analysis, &a, sigma) {
+            Ok(f) if f.smallest_relative_pivot(&a) >= 1e-12 => return Ok(f.inertia().negative),
+            Ok(f) => last = Some(f.inertia().negative),
+            Err(e @ SolveError::Singular { .. }) => {
+                if last.is_none() && nudge == COUNT_NUDGE[COUNT_NUDGE.len() - 1] {
+                    return Err(e);
+                }
+            }
+            Err(e) => return Err(e),
+        }
+    }
+    last.ok_or_else(|| SolveError::Input("no inertia count".into()))
 }
 
 /// Sylvester's inertia of `K - sigma M`, factored on `analysis`.

@@ -178,6 +178,20 @@ impl Factor {
         }
     }
 
+    /// The smallest `|pivot| / |diagonal term of its row of a|` (`a` the matrix factored):
+    /// how close the factorisation came to breaking down.
+    pub fn smallest_relative_pivot(&self, a: &SymCsc) -> f64 {
+        let d = self.pivots();
+        let diag = a.diagonal();
+        let perm = self.analysis.symbolic.perm();
+        (0..d.len())
+            .map(|i| {
+                let row = perm.map_or(i, |p| p.arrays().0[i]);
+                d[i].abs() / diag[row].abs()
+            })
+            .fold(f64::INFINITY, f64::min)
+    }
+
     /// The first pivot (index in factorisation order) that is not positive or is below
     /// `rel` times the diagonal term of its row of `a`, the matrix factored: a factor meant
     /// to be of a positive definite matrix checks itself with this (a singular matrix
@@ -245,7 +259,7 @@ mod tests {
         let (k, m) = chain(n);
         let pattern = k.add_scaled(0.0, &m).unwrap();
         let analysis = Analysis::new(&pattern).unwrap();
-        for sigma in [0.3, 1.0, 2.5, 3.9] {
+        for sigma in [0.3, 1.1, 2.5, 3.9] {
             let a = k.add_scaled(-sigma, &m).unwrap();
             let f = Factor::new(&analysis, &a, sigma).unwrap();
             let below = (1..=n)
@@ -256,6 +270,16 @@ mod tests {
             assert_eq!(f.inertia().negative, below, "sigma {sigma}");
             assert_eq!(f.inertia().zero, 0);
         }
+    }
+
+    #[test]
+    fn an_exact_zero_pivot_is_refused() {
+        // [[1, -1], [-1, 1]]: sigma = 1 is an eigenvalue of the 2-DOF chain; the second
+        // pivot is 1 - 1/1 = 0.
+        let (k, m) = chain(2);
+        let a = k.add_scaled(-1.0, &m).unwrap();
+        let f = Factor::new(&Analysis::new(&a).unwrap(), &a, 1.0);
+        assert!(matches!(f, Err(SolveError::Singular { .. })), "{f:?}");
     }
 
     #[test]
