@@ -32,6 +32,17 @@ fn peak_mb() -> f64 {
         .map_or(0.0, |kb| kb / 1024.0)
 }
 
+/// CPU seconds (user + system) this process has used, from /proc/self/stat.
+fn cpu_seconds() -> f64 {
+    let stat = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
+    let after = stat.rsplit(')').next().unwrap_or("");
+    let f: Vec<&str> = after.split_whitespace().collect();
+    // Fields 14 and 15 of the line (utime, stime; the 12th and 13th after the name), in
+    // clock ticks of 1/100 s.
+    let tick = |k: usize| f.get(k).and_then(|t| t.parse::<f64>().ok()).unwrap_or(0.0);
+    (tick(11) + tick(12)) / 100.0
+}
+
 fn main() {
     let size: f64 = std::env::var("SPARSE_BENCH_SIZE")
         .ok()
@@ -41,6 +52,7 @@ fn main() {
     let job = dir.join("free");
     let (a, b) = common::spiders(&dir);
 
+    let cpu0 = cpu_seconds();
     let start = Instant::now();
     let mut t = Instant::now();
     let model = read_job(&job).unwrap_or_else(|e| panic!("{e}"));
@@ -79,6 +91,7 @@ fn main() {
     let t_static = t.elapsed().as_secs_f64();
     let total = start.elapsed().as_secs_f64();
     let our_peak = peak_mb();
+    let our_cpu = cpu_seconds() - cpu0;
     let ours_solve = t_factor + t_eigen + t_static;
 
     println!(
@@ -96,7 +109,7 @@ fn main() {
         psi.ncols()
     );
     println!(
-        "ours:  read {t_read:.2} s, analyse+count+factor {t_factor:.2} s, eigen {t_eigen:.2} s, static {t_static:.2} s; total {total:.2} s, peak {our_peak:.0} MB"
+        "ours:  read {t_read:.2} s, analyse+count+factor {t_factor:.2} s, eigen {t_eigen:.2} s, static {t_static:.2} s; total {total:.2} s wall ({our_cpu:.1} s CPU), peak {our_peak:.0} MB"
     );
 
     let conn_text: Vec<String> = conn.iter().map(|c| c.to_string()).collect();
@@ -124,7 +137,8 @@ fn main() {
         s["splu_static"].as_f64().unwrap(),
     );
     println!(
-        "scipy: read {s_read:.2} s, eigsh {s_eig:.2} s, splu static {s_static:.2} s; peak {:.0} MB",
+        "scipy: read {s_read:.2} s, eigsh {s_eig:.2} s, splu static {s_static:.2} s ({:.1} s CPU after reading), peak {:.0} MB",
+        s["cpu"].as_f64().unwrap(),
         s["peak_mb"].as_f64().unwrap()
     );
     println!(

@@ -200,11 +200,27 @@ impl SymCsc {
         })
     }
 
-    /// `y = self x` for every column of `x` (`n x b`), one pass over the stored triangle
-    /// for all `b` columns. Sequential: the same bits on any machine.
-    pub fn mul(&self, x: MatRef<'_, f64>, mut y: MatMut<'_, f64>) {
+    /// `y = self x` for every column of `x` (`n x b`). The columns are cut in two fixed
+    /// halves done on two threads, each in one pass over the stored triangle; a column's
+    /// arithmetic does not depend on the split, so the bits do not depend on the pool.
+    pub fn mul(&self, x: MatRef<'_, f64>, y: MatMut<'_, f64>) {
         let (n, b) = (self.n, x.ncols());
         assert!(x.nrows() == n && y.nrows() == n && y.ncols() == b);
+        if b >= 2 && crate::par::THREADS > 1 && self.nnz() * b >= 1 << 16 {
+            let h = b / 2;
+            let (yl, yr) = y.split_at_col_mut(h);
+            rayon::join(
+                || self.mul_seq(x.subcols(0, h), yl),
+                || self.mul_seq(x.subcols(h, b - h), yr),
+            );
+        } else {
+            self.mul_seq(x, y);
+        }
+    }
+
+    /// [`SymCsc::mul`] on one thread.
+    fn mul_seq(&self, x: MatRef<'_, f64>, mut y: MatMut<'_, f64>) {
+        let (n, b) = (self.n, x.ncols());
         // Row-major copies: each stored term then updates b contiguous values.
         let mut xr = vec![0.0; n * b];
         for c in 0..b {

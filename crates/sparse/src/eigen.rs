@@ -25,11 +25,11 @@ use crate::error::SolveError;
 use crate::factor::{Analysis, Factor, Inertia};
 use crate::lanczos::{self, Locked, Params, Start};
 
-/// A free body's working shift as a fraction of `lambda_max`: `sigma0 = -0.01
+/// A free body's working shift as a fraction of `lambda_max`: `sigma0 = -0.001
 /// lambda_max`. Small against the wanted eigenvalues, so the wanted part of the
 /// operator's spectrum stays spread out; large enough that `K - sigma0 M` is well away
 /// from singular.
-pub const FREE_SHIFT: f64 = 0.01;
+pub const FREE_SHIFT: f64 = 0.001;
 
 /// Largest accepted backward error of an eigenpair,
 /// `|K x - lambda M x|_inf / ((|K|_inf + |lambda| |M|_inf) |x|_inf)`. Pairs converged

@@ -15,7 +15,7 @@
 //! the solution along the kept eigenvectors Phi (all modes below the limit) is known in
 //! closed form, `Phi Lambda^-1 Phi^T f`, and is removed from the iteration too; what is
 //! left has only eigen-components above the limit, each of which shrinks by
-//! `s / (lambda + s) < s / lambda_max` per step (0.01 with the default shift), so a few
+//! `s / (lambda + s) < s / lambda_max` per step (0.001 with the default shift), so a few
 //! solves with all connection DOFs as right-hand sides give the mode to rounding.
 
 use faer::Mat;
