@@ -52,6 +52,19 @@ fn main() {
     let job = dir.join("free");
     let (a, b) = common::spiders(&dir);
 
+    // Reading speed against a plain read of the same bytes, same run.
+    let files = ["free.sti", "free.mas", "free.dof"].map(|f| dir.join(f));
+    let bytes: u64 = files
+        .iter()
+        .map(|f| std::fs::metadata(f).map_or(0, |m| m.len()))
+        .sum();
+    let t = Instant::now();
+    let plain: usize = files
+        .iter()
+        .map(|f| std::fs::read(f).map_or(0, |b| b.len()))
+        .sum();
+    let t_plain = t.elapsed().as_secs_f64();
+    assert_eq!(plain as u64, bytes);
     let cpu0 = cpu_seconds();
     let start = Instant::now();
     let mut t = Instant::now();
@@ -107,6 +120,12 @@ fn main() {
         modes.lambda.len(),
         modes.steps,
         psi.ncols()
+    );
+    let mb = bytes as f64 / 1e6;
+    println!(
+        "read: {mb:.0} MB in {t_read:.2} s = {:.0} MB/s (a plain read of the bytes: {:.0} MB/s)",
+        mb / t_read,
+        mb / t_plain
     );
     println!(
         "ours:  read {t_read:.2} s, analyse+count+factor {t_factor:.2} s, eigen {t_eigen:.2} s, static {t_static:.2} s; total {total:.2} s wall ({our_cpu:.1} s CPU), peak {our_peak:.0} MB"
