@@ -388,13 +388,21 @@ fn normalise(
             }
         }
     }
-    // Check the block against the basis and itself; one more pass if it drifted.
-    let against = at_b(basis.mq(), q.as_ref()).norm_max();
-    let own = at_b(mq.as_ref(), q.as_ref());
-    let drift = (0..b)
-        .flat_map(|i| (0..b).map(move |k| (i, k)))
-        .map(|(i, k)| (own[(i, k)] - if i == k { 1.0 } else { 0.0 }).abs())
-        .fold(against, f64::max);
+    // Normalising a small remainder magnifies what the orthogonalisation left of the
+    // basis in it by sqrt(top / s): check the block against the basis and itself when
+    // that could matter (a remainder below 1e-4 of the block's largest direction, or a
+    // replaced one), and orthogonalise once more if it drifted.
+    let small = kept.len() < b || kept.first().is_some_and(|&k| s[k] < 1e-8 * top);
+    let drift = if small {
+        let against = at_b(basis.mq(), q.as_ref()).norm_max();
+        let own = at_b(mq.as_ref(), q.as_ref());
+        (0..b)
+            .flat_map(|i| (0..b).map(move |k| (i, k)))
+            .map(|(i, k)| (own[(i, k)] - if i == k { 1.0 } else { 0.0 }).abs())
+            .fold(against, f64::max)
+    } else {
+        0.0
+    };
     if drift > 1e-12 {
         locked.project_out(&mut q);
         basis.project_out(&mut q);

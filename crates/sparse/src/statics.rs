@@ -14,7 +14,7 @@
 //! at once:
 //! - smoothing, `u += A^-1 (f - K u)` with the rigid part removed: the error's
 //!   eigen-component at lambda shrinks by `s / (lambda + s)`, which is below
-//!   `s / lambda_max` (0.001 with the default shift) for every mode above the limit but
+//!   `s / lambda_max` (1e-4 with the default shift) for every mode above the limit but
 //!   only 0.2 for a low mode;
 //! - a coarse correction in the kept eigenvectors Phi (every mode below the limit),
 //!   `u += Phi Lambda^-1 Phi^T (f - K u)`, which removes the low modes' error (a Galerkin
@@ -77,8 +77,12 @@ pub fn static_modes(
             phi.ncols()
         )));
     }
-    let mut u = Mat::<f64>::zeros(n, c);
-    let mut r = f.clone();
+    // Start from the coarse solution.
+    let g = at_b(phi.as_ref(), f.as_ref());
+    let scaled = Mat::from_fn(g.nrows(), c, |i, col| g[(i, col)] / modes.lambda[i]);
+    let mut u = ab(phi.as_ref(), scaled.as_ref());
+    let mut r = Mat::zeros(n, c);
+    residual(solver, &f, &u, &mut r);
     let mut last = f64::INFINITY;
     for _ in 0..MAX_STEPS {
         // Smoothing: u += A^-1 r, rigid part removed.
@@ -102,7 +106,9 @@ pub fn static_modes(
                 d / size
             })
             .fold(0.0, f64::max);
-        if change <= STATIC_TOL {
+        // Converged, or the next step would change less than the tolerance (the error
+        // shrinks by the same factor each step).
+        if change <= STATIC_TOL || (last < 1.0 && change * (change / last) <= STATIC_TOL) {
             return Ok(u);
         }
         last = change;

@@ -84,10 +84,16 @@ fn free_frequencies_equal_ccx() {
         "free: {} elastic modes below {FMAX} Hz, worst relative difference {worst:.1e}",
         f.len()
     );
-    // The elastic modes are M-orthogonal to the rigid motions.
+    // The elastic modes are M-orthonormal and M-orthogonal to the rigid motions.
     let rigid = solver.rigid().unwrap();
     let c = at_b(rigid.mx.as_ref(), modes.vectors.as_ref()).norm_max();
     assert!(c < 1e-10, "{c:e}");
+    let g = model.m.project(modes.vectors.as_ref());
+    let off = (0..g.nrows())
+        .flat_map(|i| (0..g.ncols()).map(move |j| (i, j)))
+        .map(|(i, j)| (g[(i, j)] - if i == j { 1.0 } else { 0.0 }).abs())
+        .fold(0.0f64, f64::max);
+    assert!(off < 1e-10, "{off:e}");
 }
 
 /// Without the rigid motions, the solver finds them as six modes near zero (ccx prints
