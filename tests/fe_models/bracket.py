@@ -89,16 +89,19 @@ def mesh(size):
     return nodes, elements, sets
 
 
+def node_lines(nodes, sep):
+    """`id, x, y, z` of every mesh node, then the spiders' REF and ROT nodes at their
+    centres, with `sep` between the fields (coordinates to the last bit)."""
+    rows = [(n, *nodes[n]) for n in sorted(nodes)]
+    rows += [(s[k], *s["centre"]) for s in SPIDERS.values() for k in ("ref", "rot")]
+    return "".join(sep.join([str(n)] + [f"{v:.17g}" for v in xyz]) + "\n" for n, *xyz in rows)
+
+
 def write_mesh(path, nodes, elements, sets):
     """The model without a step: nodes, elements, material, the two spiders."""
     with open(path, "w") as f:
         f.write("*NODE, NSET=NALL\n")
-        for n in sorted(nodes):
-            x, y, z = nodes[n]
-            f.write(f"{n}, {x:.17g}, {y:.17g}, {z:.17g}\n")
-        for s in SPIDERS.values():
-            x, y, z = s["centre"]
-            f.write(f"{s['ref']}, {x!r}, {y!r}, {z!r}\n{s['rot']}, {x!r}, {y!r}, {z!r}\n")
+        f.write(node_lines(nodes, ", "))
         f.write("*ELEMENT, TYPE=C3D10, ELSET=EALL\n")
         for k, e in enumerate(elements, 1):
             f.write(f"{k}, " + ", ".join(map(str, e)) + "\n")
@@ -183,12 +186,7 @@ def main():
     nodes, elements, sets = mesh(a.size)
     write_mesh(os.path.join(a.out, "mesh.inp"), nodes, elements, sets)
     with open(os.path.join(a.out, "nodes.csv"), "w") as f:
-        for n in sorted(nodes):
-            x, y, z = nodes[n]
-            f.write(f"{n},{x:.17g},{y:.17g},{z:.17g}\n")
-        for s in SPIDERS.values():
-            x, y, z = s["centre"]
-            f.write(f"{s['ref']},{x!r},{y!r},{z!r}\n{s['rot']},{x!r},{y!r},{z!r}\n")
+        f.write(node_lines(nodes, ","))
     for case, blocked in (("blocked", True), ("free", False)):
         deck(os.path.join(a.out, case + ".inp"), blocked, "*FREQUENCY, SOLVER=MATRIXSTORAGE\n")
         run_ccx(a.out, case)

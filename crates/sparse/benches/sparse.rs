@@ -24,25 +24,6 @@ use fxbody_sparse::{Dof, read_job, statics};
 
 const FMAX: f64 = 20_000.0;
 
-fn peak_mb() -> f64 {
-    let s = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
-    s.lines()
-        .find_map(|l| l.strip_prefix("VmHWM:"))
-        .and_then(|v| v.trim().trim_end_matches("kB").trim().parse::<f64>().ok())
-        .map_or(0.0, |kb| kb / 1024.0)
-}
-
-/// CPU seconds (user + system) this process has used, from /proc/self/stat.
-fn cpu_seconds() -> f64 {
-    let stat = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
-    let after = stat.rsplit(')').next().unwrap_or("");
-    let f: Vec<&str> = after.split_whitespace().collect();
-    // Fields 14 and 15 of the line (utime, stime; the 12th and 13th after the name), in
-    // clock ticks of 1/100 s.
-    let tick = |k: usize| f.get(k).and_then(|t| t.parse::<f64>().ok()).unwrap_or(0.0);
-    (tick(11) + tick(12)) / 100.0
-}
-
 fn main() {
     let size: f64 = std::env::var("SPARSE_BENCH_SIZE")
         .ok()
@@ -65,7 +46,7 @@ fn main() {
         .sum();
     let t_plain = t.elapsed().as_secs_f64();
     assert_eq!(plain as u64, bytes);
-    let cpu0 = cpu_seconds();
+    let cpu0 = common::cpu_seconds();
     let start = Instant::now();
     let mut t = Instant::now();
     let model = read_job(&job).unwrap_or_else(|e| panic!("{e}"));
@@ -103,8 +84,8 @@ fn main() {
     let psi = statics::static_modes(&solver, &conn, &modes).unwrap_or_else(|e| panic!("{e}"));
     let t_static = t.elapsed().as_secs_f64();
     let total = start.elapsed().as_secs_f64();
-    let our_peak = peak_mb();
-    let our_cpu = cpu_seconds() - cpu0;
+    let our_peak = common::peak_mb();
+    let our_cpu = common::cpu_seconds() - cpu0;
     let ours_solve = t_factor + t_eigen + t_static;
 
     println!(

@@ -11,7 +11,10 @@
 //! (`id,x,y,z` lines) with the spiders' ROT nodes `--rot` read as rotations. `--connect`
 //! names the nodes whose DOFs get static modes.
 
-use std::collections::{HashMap, HashSet};
+#[path = "../tests/common/mod.rs"]
+mod common;
+
+use std::collections::HashSet;
 use std::path::Path;
 use std::time::Instant;
 
@@ -23,29 +26,6 @@ fn ids(s: &str) -> Vec<i64> {
         .filter(|t| !t.is_empty())
         .map(|t| t.parse().expect("node ID"))
         .collect()
-}
-
-fn coords(path: &str) -> HashMap<i64, [f64; 3]> {
-    let text = std::fs::read_to_string(path).expect("nodes file");
-    text.lines()
-        .filter(|l| !l.trim().is_empty())
-        .map(|l| {
-            let f: Vec<f64> = l
-                .split(',')
-                .map(|t| t.trim().parse().expect("number"))
-                .collect();
-            (f[0] as i64, [f[1], f[2], f[3]])
-        })
-        .collect()
-}
-
-/// Peak resident memory of this process (VmHWM), in MB.
-fn peak_mb() -> f64 {
-    let s = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
-    s.lines()
-        .find_map(|l| l.strip_prefix("VmHWM:"))
-        .and_then(|v| v.trim().trim_end_matches("kB").trim().parse::<f64>().ok())
-        .map_or(0.0, |kb| kb / 1024.0)
 }
 
 fn main() {
@@ -73,18 +53,13 @@ fn main() {
     let model = read_job(Path::new(job)).unwrap_or_else(|e| panic!("{e}"));
     stage("read", &mut t);
     let support = if free {
-        let nodes = coords(&get("--nodes").expect("--free needs --nodes"));
+        let nodes = common::read_nodes(Path::new(&get("--nodes").expect("--free needs --nodes")));
         let rot: HashSet<i64> = get("--rot")
             .map(|s| ids(&s))
             .unwrap_or_default()
             .into_iter()
             .collect();
-        let mut origin = [0.0; 3];
-        for x in nodes.values() {
-            for k in 0..3 {
-                origin[k] += x[k] / nodes.len() as f64;
-            }
-        }
+        let origin = common::centroid(&nodes);
         let r = rigid::rigid_motions(&model.dofs, &nodes, &rot, origin)
             .unwrap_or_else(|e| panic!("{e}"));
         Support::Free { rigid: Some(r) }
@@ -130,7 +105,7 @@ fn main() {
         "static_modes": statics.ncols(),
         "seconds": times,
         "total_seconds": clock.elapsed().as_secs_f64(),
-        "peak_mb": peak_mb(),
+        "peak_mb": common::peak_mb(),
     });
     println!("{}", serde_json::to_string_pretty(&out).expect("json"));
 }

@@ -34,12 +34,13 @@ use crate::lanczos::{self, Locked, Params, Start};
 pub const FREE_SHIFT: f64 = 1e-4;
 
 /// Largest accepted backward error of an eigenpair,
-/// `|K x - lambda M x|_inf / ((|K|_inf + |lambda| |M|_inf) |x|_inf)`. Pairs converged
-/// to the default Lanczos tolerance show 1e-12 and less; the bound catches a pair that is
-/// not one (a wrong factor, a broken basis), not the last digits, which the Lanczos
-/// residual bounds (an eigenvalue's error is below the square of its residual over the
-/// gap to the next one).
-pub const RESIDUAL_BOUND: f64 = 1e-9;
+/// `|K x - lambda M x|_inf / ((|K|_inf + |lambda| |M|_inf) |x|_inf)`. It is of the order
+/// of the eigenvector's error, which is the Lanczos residual (1e-8 relative) over the
+/// relative gap to the next eigenvalue: the bracket's pairs show 3e-11 blocked and 4e-10
+/// free. The bound catches a pair that is not one (a wrong factor, a broken basis); the
+/// eigenvalues themselves are far more accurate than the vectors (their error is below
+/// the square of the residual over the gap).
+pub const RESIDUAL_BOUND: f64 = 1e-6;
 
 /// How the body is held.
 #[derive(Debug, Clone)]

@@ -64,6 +64,8 @@ fn blocked_frequencies_equal_ccx() {
         f.len()
     );
     assert_eq!(modes.count, 19);
+    let worst = modes.residual.iter().fold(0.0f64, |a, &b| a.max(b));
+    assert!(worst < 1e-8, "backward error {worst:e}");
 }
 
 /// The free body with its rigid motions locked out: the elastic modes are ccx's 7th
@@ -77,6 +79,8 @@ fn free_frequencies_equal_ccx() {
     let solver = Solver::new(&model.k, &model.m, &support, lambda(FMAX)).unwrap();
     let modes = solver.modes(&Options::default()).unwrap();
     assert_eq!((modes.count, modes.rigid_locked), (20, 6));
+    let worst = modes.residual.iter().fold(0.0f64, |a, &b| a.max(b));
+    assert!(worst < 1e-8, "backward error {worst:e}");
     let f: Vec<f64> = modes.lambda.iter().map(|&l| hz(l)).collect();
     let ccx = reference(&dir)["free_hz"].as_array().unwrap()[6..].to_vec();
     let worst = assert_frequencies(&f, &ccx);

@@ -1,7 +1,8 @@
 //! The real models the tests and the bench run on: the L-bracket of
 //! `tests/fe_models/bracket.py` (gmsh mesh of second-order tetrahedra, two CalculiX
 //! spiders), generated on first use into `target/fe_models/` with ccx's matrices and its
-//! own reference results, and read back here.
+//! own reference results, and read back here; and the process's peak memory and CPU time
+//! for the bench and the example.
 
 #![allow(dead_code)]
 
@@ -57,12 +58,22 @@ pub fn bracket(size: f64, reference: bool) -> PathBuf {
     dir
 }
 
-/// `id,x,y,z` lines of `nodes.csv`.
+/// `id,x,y,z` lines of the model's `nodes.csv`.
 pub fn nodes(dir: &Path) -> HashMap<i64, [f64; 3]> {
-    let text = std::fs::read_to_string(dir.join("nodes.csv")).expect("nodes.csv");
+    read_nodes(&dir.join("nodes.csv"))
+}
+
+/// `id,x,y,z` lines of a CSV file.
+pub fn read_nodes(path: &Path) -> HashMap<i64, [f64; 3]> {
+    let text = std::fs::read_to_string(path)
+        .unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
     text.lines()
+        .filter(|l| !l.trim().is_empty())
         .map(|l| {
-            let f: Vec<f64> = l.split(',').map(|t| t.parse().expect("number")).collect();
+            let f: Vec<f64> = l
+                .split(',')
+                .map(|t| t.trim().parse().expect("number"))
+                .collect();
             (f[0] as i64, [f[1], f[2], f[3]])
         })
         .collect()
@@ -122,4 +133,24 @@ pub fn printed(text: &str) -> (f64, f64) {
     let decimals = mantissa.split_once('.').map_or(0, |(_, d)| d.len()) as i32;
     let exp: i32 = exp.parse().expect("exponent");
     (v, 0.5 * 10f64.powi(exp - decimals))
+}
+
+/// Peak resident memory of this process (VmHWM), in MB.
+pub fn peak_mb() -> f64 {
+    let s = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
+    s.lines()
+        .find_map(|l| l.strip_prefix("VmHWM:"))
+        .and_then(|v| v.trim().trim_end_matches("kB").trim().parse::<f64>().ok())
+        .map_or(0.0, |kb| kb / 1024.0)
+}
+
+/// CPU seconds (user + system) this process has used, from /proc/self/stat.
+pub fn cpu_seconds() -> f64 {
+    let stat = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
+    let after = stat.rsplit(')').next().unwrap_or("");
+    let f: Vec<&str> = after.split_whitespace().collect();
+    // Fields 14 and 15 of the line (utime, stime; the 12th and 13th after the name), in
+    // clock ticks of 1/100 s.
+    let tick = |k: usize| f.get(k).and_then(|t| t.parse::<f64>().ok()).unwrap_or(0.0);
+    (tick(11) + tick(12)) / 100.0
 }
