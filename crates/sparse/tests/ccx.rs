@@ -275,6 +275,28 @@ fn free_statics_relative_to_a_equal_ccx_clamped_at_a() {
     ]
     .concat();
     let psi = statics::static_modes(&solver, &conn, &modes).unwrap();
+    // Each is an inertia-relief mode: no rigid part (R^T M psi = 0), and
+    // K psi_j = P e_j = e_j - M R R^T e_j (R M-orthonormal), to 1e-9 of |P e_j|.
+    let rigid = solver.rigid().unwrap();
+    let rigid_part = at_b(rigid.mx.as_ref(), psi.as_ref()).norm_max() / psi.norm_max();
+    assert!(rigid_part < 1e-12, "rigid part {rigid_part:e}");
+    let mut kpsi = Mat::zeros(model.dofs.len(), conn.len());
+    model.k.mul(psi.as_ref(), kpsi.as_mut());
+    for (j, &e) in conn.iter().enumerate() {
+        let pe = Mat::from_fn(model.dofs.len(), 1, |i, _| {
+            let unit = if i == e { 1.0 } else { 0.0 };
+            unit - (0..6)
+                .map(|k| rigid.mx[(i, k)] * rigid.x[(e, k)])
+                .sum::<f64>()
+        });
+        let err = (0..model.dofs.len())
+            .map(|i| (kpsi[(i, j)] - pe[(i, 0)]).abs())
+            .fold(0.0f64, f64::max);
+        assert!(
+            err < 1e-9 * pe.norm_max(),
+            "mode {j}: |K psi - P e| = {err:e}"
+        );
+    }
     let (ccx, half, force, moment) = ccx_static(&dir);
     let d = [0, 1, 2].map(|i| b.centre[i] - a.centre[i]);
     let d_x_f = [
