@@ -46,9 +46,9 @@
 //!    themselves ([`eigen::RESIDUAL_BOUND`]).
 //! 6. **Static modes** ([`statics`]): blocked, the columns of `K^-1` at the connection
 //!    DOFs; free, inertia-relief attachment modes (a unit load balanced by the rigid
-//!    body's inertia, the response with no rigid part), solved with the working factor by
-//!    a fixed-point iteration that shrinks its error 10^4-fold a step once the kept
-//!    modes' part is taken out in closed form.
+//!    body's inertia, the response with no rigid part), solved by a two-level iteration
+//!    (a solve with the working factor, then a Galerkin correction in the kept modes)
+//!    that shrinks its error about 10^4-fold a step.
 //!
 //! With the kept eigenvectors and the static modes in a reduced basis, statics at the
 //! connections are exact and every frequency below `fmax` is the full model's.
