@@ -24,6 +24,9 @@ if [ ! -x .venv-nastran/bin/python ] || ! cmp -s requirements-nastran.txt .venv-
 fi
 export FXBODY_NASTRAN_PYTHON="$PWD/.venv-nastran/bin/python"
 
+# CalculiX, the FE solver the whole-model tests check against (crates/sparse/tests/ccx.rs).
+bash scripts/setup-fe.sh
+
 cargo fmt --all --check
 # --release shares the dependencies' build with the tests below.
 cargo clippy --release --workspace --all-targets -- -D warnings
