@@ -15,6 +15,7 @@ use super::xml::model_description;
 use super::zip::{Entry, write};
 use crate::body;
 use crate::fxb::coords;
+use crate::fxb::input::{InputError, Limit, check_input, describe, read_bounded, read_input};
 use crate::scene::Scene;
 
 mod error;
@@ -143,7 +144,7 @@ pub fn prepare_reporting(
         if platforms.contains(platform) {
             return Err(refuse(format!("{platform} is given twice")));
         }
-        let bytes = std::fs::read(path).map_err(|e| refuse(format!("cannot read: {e}")))?;
+        let bytes = read_bounded(path, Limit::Library).map_err(|e| refuse(describe(&e)))?;
         super::platforms::check_library(platform, &bytes).map_err(refuse)?;
         platforms.push(platform.clone());
         other_binaries.push((platform.clone(), bytes));
@@ -163,7 +164,10 @@ pub fn prepare_reporting(
         .map(|w| format!("warning: {w}"))
         .collect();
     let xyz = match &req.coords {
-        Some(p) => coords::read_coords(p)?,
+        Some(p) => coords::read_coords(p).map_err(|e| match e {
+            coords::CoordsError::Io { source, .. } => InputError::new("--coords", p, source).into(),
+            e => PackError::from(e),
+        })?,
         None => match coords_from_rigid_modes(&body) {
             Some(c) => {
                 notes.push("no --coords: node coordinates derived from the rigid modes, frame origin L0 at (0, 0, 0)".into());
@@ -354,22 +358,18 @@ pub fn refuse_overwrite(out: &Path, inputs: &[(&str, &Path)]) -> Result<(), Pack
 }
 
 /// Find the FMU library: `explicit`, else `$FXBODY_LIB`, else `libfxbody.so` next to the
-/// running executable (or one folder up, for test executables in `deps/`).
+/// running executable (or one folder up, for test executables in `deps/`). A path given
+/// (option or variable) must be a regular file no larger than a library can be
+/// ([`Limit::Library`]); the message says what it is instead.
 pub fn find_library(explicit: Option<&Path>) -> Result<PathBuf, PackError> {
     if let Some(p) = explicit {
-        return if p.is_file() {
-            Ok(p.to_path_buf())
-        } else {
-            Err(PackError::NoLib(p.to_path_buf()))
-        };
+        check_input("--lib", p, Limit::Library)?;
+        return Ok(p.to_path_buf());
     }
     if let Some(p) = std::env::var_os("FXBODY_LIB") {
         let p = PathBuf::from(p);
-        return if p.is_file() {
-            Ok(p)
-        } else {
-            Err(PackError::NoEnvLib(p))
-        };
+        check_input("FXBODY_LIB=", &p, Limit::Library)?;
+        return Ok(p);
     }
     let exe = std::env::current_exe().map_err(PackError::Exe)?;
     let mut tried = Vec::new();
@@ -518,9 +518,13 @@ pub fn pack_reporting(
     }
     refuse_overwrite(out, &inputs)?;
     let p = prepare_reporting(req, popts, progress)?;
-    let lib_bytes = std::fs::read(lib).map_err(|source| PackError::ReadLib {
-        path: lib.to_path_buf(),
-        source,
+    let lib_bytes = read_input("--lib", lib, Limit::Library)?;
+    super::platforms::check_library(super::platforms::NATIVE, &lib_bytes).map_err(|why| {
+        InputError::new(
+            "--lib",
+            lib,
+            std::io::Error::new(std::io::ErrorKind::InvalidData, why),
+        )
     })?;
     let bytes = archive(&p, &lib_bytes)?;
     std::fs::write(out, bytes).map_err(|source| PackError::WriteFmu {

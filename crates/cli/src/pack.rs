@@ -162,8 +162,8 @@ pub fn run(args: &PackArgs) -> Result<(), String> {
 /// Node IDs from a `--nodes-file`: one per line or comma-separated (blanks also
 /// separate), `#` starts a comment. Errors name the file and line.
 pub fn read_nodes_file(path: &std::path::Path) -> Result<Vec<i64>, String> {
-    let bytes = fxbody::fxb::input::read_regular(path)
-        .map_err(|e| format!("--nodes-file {}: cannot read: {e}", path.display()))?;
+    use fxbody::fxb::input::{Limit, read_input};
+    let bytes = read_input("--nodes-file", path, Limit::NodeList).map_err(|e| e.to_string())?;
     let text = String::from_utf8(bytes)
         .map_err(|_| format!("--nodes-file {}: not UTF-8 text", path.display()))?;
     parse_nodes(&text, &path.display().to_string())
@@ -181,8 +181,9 @@ pub fn parse_nodes(text: &str, name: &str) -> Result<Vec<i64>, String> {
             let tok = tok.trim();
             ids.push(tok.parse::<i64>().map_err(|_| {
                 format!(
-                    "{name}:{}: expected an integer node ID, found '{tok}'",
-                    k + 1
+                    "{name}:{}: expected an integer node ID, found '{}'",
+                    k + 1,
+                    fxbody::fxb::fields::shown(tok.as_bytes())
                 )
             })?);
         }

@@ -9,6 +9,7 @@ use crate::fmu::options::UnknownUnits;
 use crate::fmu::scene_io::SceneError;
 use crate::fmu::zip::ZipError;
 use crate::fxb::coords::CoordsError;
+use crate::fxb::input::InputError;
 
 /// Why packing failed: each names the file or option at fault.
 #[derive(Debug, thiserror::Error)]
@@ -80,12 +81,10 @@ pub enum PackError {
         /// The input path.
         input: PathBuf,
     },
-    /// `--lib` names no file.
-    #[error("--lib {}: no such file", .0.display())]
-    NoLib(PathBuf),
-    /// `FXBODY_LIB` names no file.
-    #[error("FXBODY_LIB={}: no such file", .0.display())]
-    NoEnvLib(PathBuf),
+    /// An input path (`--coords`, `--lib`, `FXBODY_LIB`, `--binary`) that is not a
+    /// regular file of a size its kind can have, refused before it is read.
+    #[error(transparent)]
+    Input(#[from] InputError),
     /// The running executable's path is unknown (needed to find the library).
     #[error("cannot locate the running executable: {0}")]
     Exe(std::io::Error),
@@ -95,14 +94,6 @@ pub enum PackError {
          or give --lib PATH or FXBODY_LIB"
     )]
     LibNotFound(String),
-    /// The library could not be read.
-    #[error("{}: cannot read the library: {source}", .path.display())]
-    ReadLib {
-        /// The library path.
-        path: PathBuf,
-        /// Why.
-        source: std::io::Error,
-    },
     /// `--step` or `--stop` not a finite time > 0.
     #[error("--{what}: expected a time > 0 (s), found {}", crate::num::num(*.value))]
     Time {

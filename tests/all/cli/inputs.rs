@@ -40,7 +40,7 @@ fn info_refuses_a_device_at_once() {
     assert_eq!(out.status.code(), Some(2));
     assert_eq!(
         stderr(&out).trim(),
-        "fxbody: /dev/zero: cannot read the file: expected a regular file, found a character device"
+        "fxbody: /dev/zero: cannot read the body file: expected a regular file, found a character device"
     );
     assert!(t.elapsed() < Duration::from_secs(20), "{:?}", t.elapsed());
 }

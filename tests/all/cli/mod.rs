@@ -2,6 +2,7 @@
 
 mod first_use;
 mod info;
+mod input_kinds;
 mod inputs;
 mod pack_extras;
 mod progress;
