@@ -207,7 +207,8 @@ fn node_line(line: &[u8]) -> Result<NodeLine, NodeIssue> {
 }
 
 fn show((id, x): NodeLine) -> String {
-    format!("[{id}, {}, {}, {}]", x[0], x[1], x[2])
+    use crate::num::num;
+    format!("[{id}, {}, {}, {}]", num(x[0]), num(x[1]), num(x[2]))
 }
 
 fn squeeze(field: &[u8]) -> Vec<u8> {

@@ -125,9 +125,13 @@ pub fn run(args: &PackArgs) -> Result<(), String> {
         method,
         binaries: args.binary.clone(),
     };
-    if let Some(h) = &args.header {
-        refuse_overwrite(h, &[("body file", &args.file)]).map_err(|e| e.to_string())?;
-    }
+    let header_prefix = match &args.header {
+        Some(h) => {
+            refuse_overwrite(h, &[("body file", &args.file)]).map_err(|e| e.to_string())?;
+            Some(fxbody::fmu::header::macro_prefix(h)?)
+        }
+        None => None,
+    };
     let progress = super::progress::Progress::start("packing");
     let p = pack_reporting(&req, &popts, &lib, &args.output, &mut |done, total| {
         progress.update(done, total)
@@ -137,10 +141,10 @@ pub fn run(args: &PackArgs) -> Result<(), String> {
     for n in &p.notes {
         eprintln!("fxbody pack: {n}");
     }
-    if let Some(h) = &args.header {
+    if let (Some(h), Some(prefix)) = (&args.header, &header_prefix) {
         std::fs::write(
             h,
-            fxbody::fmu::header::c_header(&p.table, &p.options, &p.guid),
+            fxbody::fmu::header::c_header(prefix, &p.table, &p.options, &p.guid),
         )
         .map_err(|e| format!("--header {}: cannot write: {e}", h.display()))?;
     }

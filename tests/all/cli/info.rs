@@ -1,18 +1,10 @@
 //! `fxbody info` end to end, running the built binary: JSON keys exactly as specified,
 //! numbers against closed forms, exit code 2 and a message naming the line on errors.
 
+use super::run;
 use std::f64::consts::PI;
-use std::process::{Command, Output};
 
 use crate::common::root;
-
-fn run(args: &[&str]) -> Output {
-    Command::new(fxbody_host::workspace_binary("fxbody"))
-        .args(args)
-        .current_dir(root())
-        .output()
-        .expect("run fxbody")
-}
 
 /// The top-level `"key": value` pairs of the one-key-per-line JSON that `info` prints.
 fn fields(json: &str) -> Vec<(String, String)> {

@@ -7,6 +7,7 @@
 //! once, and a message naming the option, the path and what the path is. A FIFO or
 //! `/dev/zero` read would hang or exhaust memory: every run has a deadline.
 
+use super::scratch;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
@@ -254,7 +255,7 @@ fn refused_with(r: &Reader, path: &Path, words: &[String]) {
 
 #[test]
 fn every_input_path_that_is_no_regular_file_is_refused_naming_the_option() {
-    let work = scratch("kinds");
+    let work = scratch("kinds_kinds");
     let readers = readers(&work);
     let paths = bad_paths(&work);
     for r in &readers {
@@ -276,7 +277,7 @@ fn every_input_path_that_is_no_regular_file_is_refused_naming_the_option() {
 
 #[test]
 fn every_input_one_byte_over_its_bound_is_refused_before_reading() {
-    let work = scratch("bound");
+    let work = scratch("kinds_bound");
     for r in readers(&work).iter().filter(|r| r.bound != u64::MAX) {
         // Sparse: the size is there, the disk blocks are not; reading it would take
         // minutes (4 GiB), refusing it takes milliseconds.
@@ -342,7 +343,7 @@ fn every_input_one_byte_over_its_bound_is_refused_before_reading() {
 
 #[test]
 fn demo_refuses_a_reference_that_is_no_regular_file() {
-    let work = scratch("demo");
+    let work = scratch("kinds_demo");
     let fixtures = work.join("fixtures");
     std::fs::create_dir_all(&fixtures).unwrap();
     for f in ["cantilever.fxb", "cantilever.nodes.rad"] {
@@ -373,9 +374,29 @@ fn demo_refuses_a_reference_that_is_no_regular_file() {
     std::fs::remove_dir_all(&work).ok();
 }
 
-fn scratch(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("fxb_cli_kinds_{tag}_{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+#[test]
+fn a_library_that_is_no_shared_library_is_refused_before_anything_is_written() {
+    let work = scratch("kinds_lib");
+    let out = work.join("x.fmu");
+    let args: Vec<String> = [
+        "pack",
+        "fixtures/cantilever.fxb",
+        "--coords",
+        "fixtures/cantilever.nodes.rad",
+        "--lib",
+        "Cargo.toml",
+        "-o",
+        out.to_str().unwrap(),
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
+    let (code, err) = run_bounded(&args, &[]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(
+        err.contains("--lib Cargo.toml: expected an ELF 64-bit shared library for linux64, found: not a shared library"),
+        "{err}"
+    );
+    assert!(!out.exists());
+    std::fs::remove_dir_all(&work).ok();
 }

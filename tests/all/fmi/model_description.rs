@@ -212,7 +212,7 @@ fn pack_errors_are_clear() {
         .err()
         .unwrap()
         .to_string();
-    assert!(e.contains("cannot read the library"), "{e}");
+    assert!(e.contains("--lib /nonexistent/lib.so: no such file"), "{e}");
     let this = std::env::current_exe().unwrap();
     let e = fxbody::fmu::pack::pack(
         &request("cantilever"),
