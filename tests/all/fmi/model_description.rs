@@ -20,7 +20,7 @@ fn request(body: &str) -> PackRequest {
 
 #[test]
 fn golden_model_descriptions_are_fresh() {
-    let bless = std::env::var_os("FXBODY_BLESS").is_some();
+    let bless = crate::common::blessing();
     let mut stale = Vec::new();
     for body in BODIES {
         let p = prepare(&request(body)).unwrap_or_else(|e| panic!("{body}: {e}"));
