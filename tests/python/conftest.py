@@ -57,10 +57,15 @@ def nastran_python():
 
 
 def pack_fmu(out_dir, body, *extra, name=None):
-    """Pack fixtures/<body>.fxb with its /NODE deck; returns the .fmu path."""
+    """Pack fixtures/<body>.fxb with its /NODE deck into a folder of its own,
+    out_dir/<name>/<name>.fmu (the model name stays the body's: fxbody refuses a second
+    FMU of one model name in a folder, whose OSP description it would overwrite);
+    returns the .fmu path."""
     if not EXE.is_file():
         pytest.fail(f"{EXE} is missing: run `cargo build --release` first (scripts/test.sh does)")
-    out = pathlib.Path(out_dir) / f"{name or body}.fmu"
+    folder = pathlib.Path(out_dir) / (name or body)
+    folder.mkdir(parents=True, exist_ok=True)
+    out = folder / f"{name or body}.fmu"
     cmd = [str(EXE), "pack", str(FIXTURES / f"{body}.fxb"), "--coords",
            str(FIXTURES / f"{body}.nodes.rad"), "-o", str(out), *extra]
     run = subprocess.run(cmd, capture_output=True, text=True)

@@ -45,6 +45,7 @@ def osp_pair(tmp_path_factory):
     masters.require("libcosim")
     work = tmp_path_factory.mktemp("osp")
     fmu = pack_fmu(work, "cantilever", "--nodes", "121", name="cantilever")
+    work = fmu.parent
     osp = work / "cantilever_OspModelDescription.xml"
     assert osp.is_file(), f"fxbody pack wrote no {osp.name} beside {fmu.name}: {sorted(os.listdir(work))}"
     return work, fmu, osp
