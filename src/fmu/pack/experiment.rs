@@ -41,13 +41,7 @@ pub fn warnings(
             num(MAX_EXPERIMENT_STEPS)
         ));
     }
-    let f1 = scene
-        .body
-        .frequencies_hz
-        .iter()
-        .copied()
-        .find(|&f| f > 1e-6);
-    if let Some(f1) = f1
+    if let Some(f1) = crate::fmu::xml::lowest_frequency(scene)
         && h < MIN_STEP_PER_PERIOD / f1
     {
         let option = if step_given { "--step" } else { "the step" };

@@ -37,3 +37,25 @@ pub fn scratch(tag: &str) -> PathBuf {
     std::fs::create_dir_all(&d).unwrap();
     d
 }
+
+/// `fxbody pack` of the shipped cantilever at its deck's coordinates, with `args` after.
+pub fn pack_cantilever(args: &[&str]) -> Output {
+    let base = [
+        "pack",
+        "fixtures/cantilever.fxb",
+        "--coords",
+        "fixtures/cantilever.nodes.rad",
+    ];
+    run(&[&base[..], args].concat())
+}
+
+/// Assert that `o` is a refusal (exit code 2) whose message holds `says`.
+pub fn assert_refused(o: &Output, says: &str) {
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(
+        o.status.code(),
+        Some(2),
+        "expected a refusal saying '{says}': {e}"
+    );
+    assert!(e.contains(says), "expected '{says}' in: {e}");
+}

@@ -5,10 +5,27 @@
 //! quoted in section 10 are the ones these tests print (`--nocapture`).
 
 use crate::common::blocked::{one_mode_scene, sdof};
-use crate::common::springs::{angular_momentum, cube_body};
+use crate::common::springs::{SpringBody, angular_momentum, cube_body};
 use fxbody::solver::free::Explicit;
 use fxbody::solver::{Method, Options, Solver, build};
 use nalgebra::{Matrix3, Vector3};
+
+/// The inertia tensor of the nodal masses of `b` about their centre of mass (global
+/// axes), from the generator's nodal data: `sum m (|r|^2 I - r r^T)`.
+fn nodal_inertia(b: &SpringBody) -> Matrix3<f64> {
+    let c =
+        b.x.iter()
+            .zip(&b.mass)
+            .map(|(x, m)| Vector3::from(*x) * *m)
+            .sum::<Vector3<f64>>()
+            / b.total_mass();
+    let mut it = Matrix3::zeros();
+    for (x, m) in b.x.iter().zip(&b.mass) {
+        let r = Vector3::from(*x) - c;
+        it += *m * (Matrix3::identity() * r.norm_squared() - r * r.transpose());
+    }
+    it
+}
 
 /// Section 10.2. An Irot = 1 body spinning at w0: we start the rotational DOFs at w0,
 /// Radioss at rest. Reference: the angular momentum of the rigid body spinning at w0 from
@@ -22,18 +39,7 @@ fn irot1_initial_rates() {
     let w0 = Vector3::new(0.5, 0.3, -0.4);
     scene.w0 = w0.into();
     // Independent reference from the nodal data (L0 is the centre of mass).
-    let mt = b.total_mass();
-    let c =
-        b.x.iter()
-            .zip(&b.mass)
-            .map(|(x, m)| Vector3::from(*x) * *m)
-            .sum::<Vector3<f64>>()
-            / mt;
-    let mut it = Matrix3::zeros();
-    for (x, m) in b.x.iter().zip(&b.mass) {
-        let r = Vector3::from(*x) - c;
-        it += *m * (Matrix3::identity() * r.norm_squared() - r * r.transpose());
-    }
+    let it = nodal_inertia(&b);
     let jsum: f64 = b.jrot.iter().sum();
     let itot = it + Matrix3::identity() * jsum;
     // Angular momentum about the origin of the body translating with 0 and spinning at w0:
@@ -275,18 +281,7 @@ fn irot_rows_mid_step_frame() {
     let b = cube_body(true, 6, 2.0e4);
     // The principal axis of largest inertia of the rigid body (nodal masses and nodal
     // rotational inertias about the centre of mass): a stable, steady spin axis.
-    let mt = b.total_mass();
-    let c =
-        b.x.iter()
-            .zip(&b.mass)
-            .map(|(x, m)| Vector3::from(*x) * *m)
-            .sum::<Vector3<f64>>()
-            / mt;
-    let mut it = Matrix3::identity() * b.jrot.iter().sum::<f64>();
-    for (x, m) in b.x.iter().zip(&b.mass) {
-        let r = Vector3::from(*x) - c;
-        it += *m * (Matrix3::identity() * r.norm_squared() - r * r.transpose());
-    }
+    let it = nodal_inertia(&b) + Matrix3::identity() * b.jrot.iter().sum::<f64>();
     let eig = it.symmetric_eigen();
     let w: Vector3<f64> = eig.eigenvectors.column(eig.eigenvalues.imax()) * 0.8;
     let mut scene = b.scene();
