@@ -125,16 +125,16 @@ pub fn random_scene(
         .map(|_| (0..nl).map(|_| g.next()).collect())
         .collect();
     for i in 0..nl {
+        let (done, rest) = q.split_at_mut(i);
+        let qi = &mut rest[0];
         for _ in 0..2 {
-            for j in 0..i {
-                let d: f64 = (0..nl).map(|r| q[i][r] * q[j][r]).sum();
-                for r in 0..nl {
-                    q[i][r] -= d * q[j][r];
-                }
+            for qj in done.iter() {
+                let d: f64 = qi.iter().zip(qj).map(|(a, b)| a * b).sum();
+                qi.iter_mut().zip(qj).for_each(|(a, b)| *a -= d * b);
             }
         }
-        let n = q[i].iter().map(|x| x * x).sum::<f64>().sqrt();
-        q[i].iter_mut().for_each(|x| *x /= n);
+        let n = qi.iter().map(|x| x * x).sum::<f64>().sqrt();
+        qi.iter_mut().for_each(|x| *x /= n);
     }
     let w2: Vec<f64> = random_scene_omegas(nl).iter().map(|w| w * w).collect();
     let mut k = vec![0.0; nl * nl];
