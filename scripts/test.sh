@@ -5,8 +5,43 @@
 # (fixture generator checks, the FMUs in fmpy, libcosim and ecos, the Dask sweep, the
 # README's snippets, the import from pyNastran-written files). Creates ./.venv with
 # requirements-test.txt and ./.venv-nastran with requirements-nastran.txt on first use.
+# With CI=true nothing may be skipped for want of a dependency (see below).
 set -euo pipefail
 cd "$(dirname "$0")/.."
+
+# FXBODY_BLESS makes the golden-file tests rewrite their files and pass: never in a run
+# of the suite (bless by hand, then review the diff).
+unset FXBODY_BLESS
+
+# In CI (CI=true) every master, tool and package the suite uses must be there: the tests
+# fail, instead of skipping a part, when one is missing (FXBODY_REQUIRE_ALL=1, read by
+# tests/python/conftest.py and tests/common/mod.rs), and the system tools the suite runs
+# are installed here when apt-get can do it, else the run stops naming them.
+if [ "${CI:-}" = true ]; then
+    export FXBODY_REQUIRE_ALL=1
+    missing=()
+    for tool in valgrind cc mkfifo; do
+        command -v "$tool" >/dev/null || missing+=("$tool")
+    done
+    if [ ${#missing[@]} -gt 0 ]; then
+        packages=()
+        for tool in "${missing[@]}"; do
+            case "$tool" in
+                cc) packages+=(gcc) ;;
+                mkfifo) packages+=(coreutils) ;;
+                *) packages+=("$tool") ;;
+            esac
+        done
+        if [ "$(id -u)" = 0 ]; then
+            apt-get install -y --no-install-recommends "${packages[@]}"
+        elif sudo -n true 2>/dev/null; then
+            sudo apt-get install -y --no-install-recommends "${packages[@]}"
+        else
+            echo "scripts/test.sh: CI needs ${missing[*]} (apt-get install ${packages[*]}), and cannot install it here" >&2
+            exit 1
+        fi
+    fi
+fi
 
 if [ ! -x .venv/bin/python ] || ! cmp -s requirements-test.txt .venv/.requirements; then
     # Resolved, so that a .venv symlink to a shared venv is updated in place.

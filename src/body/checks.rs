@@ -36,7 +36,7 @@ pub enum BodyError {
         found: usize,
     },
     /// A NaN or infinite value (hand-built files only; the reader rejects them).
-    #[error("{name}: {block}: value {index} is not finite: expected a number, found {value}")]
+    #[error("{name}: {block}: value {index} is not finite: expected a number, found {}", num(*.value))]
     NotFinite {
         /// Source file.
         name: String,
@@ -85,7 +85,7 @@ pub enum BodyError {
     },
     /// Freq <= 0 while there are local modes.
     #[error(
-        "{name}: block 3 (initial frame P0 and Freq): Freq must be > 0 when Nbmod > 0, found {freq}"
+        "{name}: block 3 (initial frame P0 and Freq): Freq must be > 0 when Nbmod > 0, found {}", num(*.freq)
     )]
     FreqNotPositive {
         /// Source file.
@@ -94,7 +94,7 @@ pub enum BodyError {
         freq: f64,
     },
     /// A local mass that is not positive.
-    #[error("{name}: block 8 (local mass m_L): every m_L must be > 0, found m_L({mode}) = {value}")]
+    #[error("{name}: block 8 (local mass m_L): every m_L must be > 0, found m_L({mode}) = {}", num(*.value))]
     NonPositiveMass {
         /// Source file.
         name: String,
@@ -129,7 +129,7 @@ pub enum BodyError {
     },
     /// An eigenfrequency of (K_L, m_L) that is not finite.
     #[error(
-        "{name}: blocks 8-10 (m_L, K_L): eigenfrequency {index} of (K_L, m_L) is not finite ({value}): the matrices overflow"
+        "{name}: blocks 8-10 (m_L, K_L): eigenfrequency {index} of (K_L, m_L) is not finite ({}): the matrices overflow", num(*.value)
     )]
     FrequencyNotFinite {
         /// Source file.
@@ -141,7 +141,7 @@ pub enum BodyError {
     },
     /// K_L has a clearly negative eigenvalue.
     #[error(
-        "{name}: blocks 9-10 (local stiffness K_L): K_L must be positive semi-definite, found eigenvalue {min} (largest |entry| {scale})"
+        "{name}: blocks 9-10 (local stiffness K_L): K_L must be positive semi-definite, found eigenvalue {} (largest |entry| {})", num(*.min), num(*.scale)
     )]
     StiffnessNotPsd {
         /// Source file.
@@ -153,7 +153,7 @@ pub enum BodyError {
     },
     /// M_R has a clearly negative eigenvalue.
     #[error(
-        "{name}: block 11 (rigid mass M_R): M_R must be positive semi-definite, found eigenvalue {min} (largest {max})"
+        "{name}: block 11 (rigid mass M_R): M_R must be positive semi-definite, found eigenvalue {} (largest {})", num(*.min), num(*.max)
     )]
     RigidMassNotPsd {
         /// Source file.
@@ -416,14 +416,14 @@ fn check_frame(p: &Matrix3<f64>, name: &str) -> Result<(), BodyError> {
     if dev > 1e-6 {
         return Err(BodyError::FrameNotRotation {
             name: name.into(),
-            found: format!("max |P0^T P0 - I| = {dev:e}"),
+            found: format!("max |P0^T P0 - I| = {}", num(dev)),
         });
     }
     let det = p.determinant();
     if det < 0.0 {
         return Err(BodyError::FrameNotRotation {
             name: name.into(),
-            found: format!("determinant {det} (a reflection)"),
+            found: format!("determinant {} (a reflection)", num(det)),
         });
     }
     Ok(())
@@ -473,7 +473,12 @@ fn check_rigid_mass(b: &Body, name: &str) -> Result<(), BodyError> {
     let r = rigid_motions(&b.p0, b.nr());
     let g = r.transpose() * &b.m_r * &r;
     let gtt = g.view((0, 0), (3, 3)).into_owned();
-    let diag = format!("[{}, {}, {}]", gtt[(0, 0)], gtt[(1, 1)], gtt[(2, 2)]);
+    let diag = format!(
+        "[{}, {}, {}]",
+        num(gtt[(0, 0)]),
+        num(gtt[(1, 1)]),
+        num(gtt[(2, 2)])
+    );
     let Some(chol) = gtt.clone().cholesky() else {
         return Err(BodyError::NoMass {
             name: name.into(),
@@ -491,7 +496,7 @@ fn check_rigid_mass(b: &Body, name: &str) -> Result<(), BodyError> {
     if e.max() <= 0.0 || e.min() <= SINGULAR_TOL * e.max() {
         return Err(BodyError::SingularRotation {
             name: name.into(),
-            found: format!("[{:e}, {:e}, {:e}]", e[0], e[1], e[2]),
+            found: format!("[{}, {}, {}]", num(e[0]), num(e[1]), num(e[2])),
         });
     }
     Ok(())

@@ -90,7 +90,7 @@ mod tests {
         assert!(matches!(e, LoadError::File(_)), "{e}");
         assert!(
             e.to_string()
-                .starts_with(&format!("{}: cannot read the file", missing.display())),
+                .starts_with(&format!("{}: cannot read the body file", missing.display())),
             "{e}"
         );
         let bad = data("labels_r0_d0_ns1.fxb");

@@ -180,8 +180,8 @@ impl Model {
             method_name(self.method),
             crate::num::count(self.scene.body.nl(), "local mode"),
             crate::num::count(self.scene.nodes.len(), "exposed node"),
-            self.opts.rho_inf,
-            self.opts.damping_ratio
+            crate::num::num(self.opts.rho_inf),
+            crate::num::num(self.opts.damping_ratio)
         )))
     }
 

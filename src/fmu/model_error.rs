@@ -102,7 +102,7 @@ pub enum ModelError {
     #[error("{0} is a fixed parameter: set it before fmi2ExitInitializationMode")]
     FixedParameter(String),
     /// A non-finite value for a Real variable.
-    #[error("{name}: value must be finite, got {value}")]
+    #[error("{name}: value must be finite, got {}", crate::num::num(*.value))]
     NonFinite {
         /// The variable.
         name: String,
@@ -139,7 +139,7 @@ pub enum ModelError {
         order: i32,
     },
     /// A non-finite input derivative.
-    #[error("{name}: derivative must be finite, got {value}")]
+    #[error("{name}: derivative must be finite, got {}", crate::num::num(*.value))]
     NonFiniteRate {
         /// The input.
         name: String,

@@ -29,11 +29,96 @@ use super::xml::{escape, unit, unit_element};
 pub const NAMESPACE: &str = "https://open-simulation-platform.com/OspModelDescription/1.0.0";
 
 /// Where the OSP model description of the FMU at `fmu` with model name `name` goes: the
-/// same folder, `<name>_OspModelDescription.xml`.
+/// same folder, `<name>_OspModelDescription.xml`, the name libcosim looks for (it finds
+/// an FMU's description by the model name of its modelDescription.xml, not by the
+/// `.fmu` file's name).
 pub fn osp_path(fmu: &Path, name: &str) -> PathBuf {
     fmu.parent()
         .unwrap_or(Path::new(""))
         .join(format!("{name}_OspModelDescription.xml"))
+}
+
+/// The comment that records which `.fmu` file (by name, in the same folder) an OSP
+/// model description was written for, so that a second pack of the same model name
+/// into the folder is refused instead of silently describing the other FMU.
+const DESCRIBES: &str = "<!-- fxbody: describes ";
+
+/// `fmu`'s file name as recorded in the [`DESCRIBES`] comment (no `--` inside a comment).
+fn recorded_name(fmu: &Path) -> String {
+    fmu.file_name()
+        .map_or_else(String::new, |n| n.to_string_lossy().into_owned())
+        .replace("--", "- -")
+}
+
+/// Why the OSP model description of a pack cannot be written where libcosim looks for it.
+#[derive(Debug, thiserror::Error)]
+pub enum OspClash {
+    /// It describes another `.fmu` of the same model name, still in the folder.
+    #[error(
+        "-o {}: {} describes {other}, another FMU of the model name '{name}' in this folder, \
+         and libcosim finds an FMU's OSP description by its model name: writing this pack's \
+         would make it describe the wrong FMU; give this pack another --name, or another folder",
+        .fmu.display(), .osp.display()
+    )]
+    OtherFmu {
+        /// The FMU being packed.
+        fmu: PathBuf,
+        /// The OSP description in the way.
+        osp: PathBuf,
+        /// The `.fmu` file it describes.
+        other: String,
+        /// The model name.
+        name: String,
+    },
+    /// It was not written by `fxbody pack` (or is unreadable): never overwritten.
+    #[error(
+        "-o {}: {} exists and was not written by fxbody pack ({why}): refusing to overwrite it; \
+         move it away, or give this pack another --name",
+        .fmu.display(), .osp.display()
+    )]
+    NotOurs {
+        /// The FMU being packed.
+        fmu: PathBuf,
+        /// The OSP description in the way.
+        osp: PathBuf,
+        /// What was found instead of the record.
+        why: String,
+    },
+}
+
+/// Check that the OSP model description of `fmu` (model name `name`) can be written: no
+/// such file yet, or one `pack` wrote for this same `.fmu` file name, or for a `.fmu` no
+/// longer in the folder.
+pub fn check_osp_target(fmu: &Path, name: &str) -> Result<(), OspClash> {
+    let osp = osp_path(fmu, name);
+    if std::fs::symlink_metadata(&osp).is_err() {
+        return Ok(());
+    }
+    let not_ours = |why: String| OspClash::NotOurs {
+        fmu: fmu.to_path_buf(),
+        osp: osp.clone(),
+        why,
+    };
+    let bytes = crate::fxb::input::read_bounded(&osp, crate::fxb::input::Limit::Reference)
+        .map_err(|e| not_ours(crate::fxb::input::describe(&e)))?;
+    let text = String::from_utf8_lossy(&bytes);
+    let Some(other) = text
+        .lines()
+        .find_map(|l| l.trim().strip_prefix(DESCRIBES)?.strip_suffix(" -->"))
+    else {
+        return Err(not_ours("no record of the FMU it describes".into()));
+    };
+    let this = recorded_name(fmu);
+    let dir = fmu.parent().unwrap_or(Path::new(""));
+    if other == this || !dir.join(other).exists() {
+        return Ok(());
+    }
+    Err(OspClash::OtherFmu {
+        fmu: fmu.to_path_buf(),
+        osp,
+        other: other.to_string(),
+        name: name.to_string(),
+    })
 }
 
 /// One port: (port element, port name, [(group element, group name, variable suffixes)]).
@@ -62,8 +147,8 @@ const PORTS: [PortSpec; 2] = [
     ),
 ];
 
-/// The file's text.
-pub fn osp_model_description(table: &VarTable, opts: &SceneOptions) -> String {
+/// The file's text, for the FMU written to `fmu` (recorded in it, see [`check_osp_target`]).
+pub fn osp_model_description(table: &VarTable, opts: &SceneOptions, fmu: &Path) -> String {
     let by_name: HashMap<&str, &Variable> =
         table.vars.iter().map(|v| (v.name.as_str(), v)).collect();
     // Exposed nodes in table order, by the prefix of their first load input.
@@ -138,6 +223,7 @@ pub fn osp_model_description(table: &VarTable, opts: &SceneOptions) -> String {
          velocities outputs, global frame. -->",
         escape(&opts.name).replace("--", "- -")
     );
+    let _ = writeln!(x, "{DESCRIBES}{} -->", recorded_name(fmu));
     let _ = writeln!(
         x,
         "<OspModelDescription xmlns=\"{NAMESPACE}\" version=\"1.0\">"

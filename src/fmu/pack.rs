@@ -15,10 +15,13 @@ use super::xml::model_description;
 use super::zip::{Entry, write};
 use crate::body;
 use crate::fxb::coords;
+use crate::fxb::input::{InputError, Limit, check_input, describe, read_bounded, read_input};
+use crate::num::num;
 use crate::scene::Scene;
 
 mod error;
-pub use error::{MAX_NAME, NameError, PackError, check_name};
+pub mod experiment;
+pub use error::{MAX_NAME, NameError, PackError, check_name, reserved};
 
 /// What to pack.
 #[derive(Debug, Clone, Default)]
@@ -143,7 +146,7 @@ pub fn prepare_reporting(
         if platforms.contains(platform) {
             return Err(refuse(format!("{platform} is given twice")));
         }
-        let bytes = std::fs::read(path).map_err(|e| refuse(format!("cannot read: {e}")))?;
+        let bytes = read_bounded(path, Limit::Library).map_err(|e| refuse(describe(&e)))?;
         super::platforms::check_library(platform, &bytes).map_err(refuse)?;
         platforms.push(platform.clone());
         other_binaries.push((platform.clone(), bytes));
@@ -163,7 +166,10 @@ pub fn prepare_reporting(
         .map(|w| format!("warning: {w}"))
         .collect();
     let xyz = match &req.coords {
-        Some(p) => coords::read_coords(p)?,
+        Some(p) => coords::read_coords(p).map_err(|e| match e {
+            coords::CoordsError::Io { source, .. } => InputError::new("--coords", p, source).into(),
+            e => PackError::from(e),
+        })?,
         None => match coords_from_rigid_modes(&body) {
             Some(c) => {
                 notes.push("no --coords: node coordinates derived from the rigid modes, frame origin L0 at (0, 0, 0)".into());
@@ -182,9 +188,9 @@ pub fn prepare_reporting(
         notes.push(format!(
             "{}: node positions match the rigid modes; frame origin L0 placed at ({}, {}, {})",
             c.display(),
-            crate::num::num(o[0]),
-            crate::num::num(o[1]),
-            crate::num::num(o[2])
+            num(o[0]),
+            num(o[1]),
+            num(o[2])
         ));
     }
     let nodes = req.nodes.clone().unwrap_or_else(|| body.node_ids.clone());
@@ -234,8 +240,9 @@ pub fn prepare_reporting(
                 }
             };
             notes.push(format!(
-                "--fmax auto: {} Hz, twice the Nyquist frequency 1/(2H) of the DefaultExperiment step H = {h} s",
-                1.0 / h
+                "--fmax auto: {} Hz, twice the Nyquist frequency 1/(2H) of the DefaultExperiment step H = {} s",
+                num(1.0 / h),
+                num(h)
             ));
             Some(1.0 / h)
         }
@@ -246,17 +253,20 @@ pub fn prepare_reporting(
         let first = basis.frequencies_hz().first().copied().unwrap_or(0.0);
         if kept == 0 {
             notes.push(format!(
-                "warning: --fmax {f} Hz is below the first mode ({} Hz): no mode kept, the body follows its loads only quasi-statically (residual flexibility); raise --fmax to keep modes",
-                crate::num::num(first)
+                "warning: --fmax {} Hz is below the first mode ({} Hz): no mode kept, the body follows its loads only quasi-statically (residual flexibility); raise --fmax to keep modes",
+                num(f),
+                num(first)
             ));
         }
         if kept == body.nl() {
             notes.push(format!(
-                "--fmax {f} Hz: all {kept} modes kept (every mode is below it), no residual correction"
+                "--fmax {} Hz: all {kept} modes kept (every mode is below it), no residual correction",
+                num(f)
             ));
         } else {
             notes.push(format!(
-            "--fmax {f} Hz: {kept} of {} modes kept, the other {} by their static (residual-flexibility) contribution; positions, rotations and strain energy now depend on the same-instant loads",
+            "--fmax {} Hz: {kept} of {} modes kept, the other {} by their static (residual-flexibility) contribution; positions, rotations and strain energy now depend on the same-instant loads",
+            num(f),
             body.nl(),
             body.nl() - kept
         ));
@@ -294,6 +304,15 @@ pub fn prepare_reporting(
         method: popts.method,
         platforms,
     };
+    if req.name.is_none()
+        && let Some(why) = reserved(&options.model_identifier())
+    {
+        return Err(PackError::StemReserved {
+            body: body_name,
+            id: options.model_identifier(),
+            why,
+        });
+    }
     let options_text = options.to_text();
     let scene = make_scene(body, &map, &options, &body_name)?;
     let scene_file = scenefile::to_bytes(&scene);
@@ -307,6 +326,13 @@ pub fn prepare_reporting(
             stop_given: options.stop.is_some(),
         });
     }
+    notes.extend(experiment::warnings(
+        &scene,
+        stop,
+        step,
+        options.step.is_some(),
+        options.stop.is_some(),
+    ));
     if all_exposed && table.vars.len() > 1000 {
         notes.push(format!(
             "warning: all {} nodes are exposed, which makes {} variables; expose only the nodes the scene couples to (--nodes or --nodes-file)",
@@ -354,22 +380,18 @@ pub fn refuse_overwrite(out: &Path, inputs: &[(&str, &Path)]) -> Result<(), Pack
 }
 
 /// Find the FMU library: `explicit`, else `$FXBODY_LIB`, else `libfxbody.so` next to the
-/// running executable (or one folder up, for test executables in `deps/`).
+/// running executable (or one folder up, for test executables in `deps/`). A path given
+/// (option or variable) must be a regular file no larger than a library can be
+/// ([`Limit::Library`]); the message says what it is instead.
 pub fn find_library(explicit: Option<&Path>) -> Result<PathBuf, PackError> {
     if let Some(p) = explicit {
-        return if p.is_file() {
-            Ok(p.to_path_buf())
-        } else {
-            Err(PackError::NoLib(p.to_path_buf()))
-        };
+        check_input("--lib", p, Limit::Library)?;
+        return Ok(p.to_path_buf());
     }
     if let Some(p) = std::env::var_os("FXBODY_LIB") {
         let p = PathBuf::from(p);
-        return if p.is_file() {
-            Ok(p)
-        } else {
-            Err(PackError::NoEnvLib(p))
-        };
+        check_input("FXBODY_LIB=", &p, Limit::Library)?;
+        return Ok(p);
     }
     let exe = std::env::current_exe().map_err(PackError::Exe)?;
     let mut tried = Vec::new();
@@ -494,7 +516,8 @@ pub fn pack_with(
 }
 
 /// [`pack`] with every pack option ([`prepare_opts`]); also writes the OSP model
-/// description beside the archive ([`super::osp::osp_path`]).
+/// description beside the archive ([`super::osp::osp_path`]), refusing before anything
+/// is written when that file describes another FMU ([`super::osp::check_osp_target`]).
 pub fn pack_opts(
     req: &PackRequest,
     popts: &PackOptions,
@@ -518,9 +541,14 @@ pub fn pack_reporting(
     }
     refuse_overwrite(out, &inputs)?;
     let p = prepare_reporting(req, popts, progress)?;
-    let lib_bytes = std::fs::read(lib).map_err(|source| PackError::ReadLib {
-        path: lib.to_path_buf(),
-        source,
+    super::osp::check_osp_target(out, &p.options.name)?;
+    let lib_bytes = read_input("--lib", lib, Limit::Library)?;
+    super::platforms::check_library(super::platforms::NATIVE, &lib_bytes).map_err(|why| {
+        InputError::new(
+            "--lib",
+            lib,
+            std::io::Error::new(std::io::ErrorKind::InvalidData, why),
+        )
     })?;
     let bytes = archive(&p, &lib_bytes)?;
     std::fs::write(out, bytes).map_err(|source| PackError::WriteFmu {
@@ -530,7 +558,7 @@ pub fn pack_reporting(
     let osp = super::osp::osp_path(out, &p.options.name);
     std::fs::write(
         &osp,
-        super::osp::osp_model_description(&p.table, &p.options),
+        super::osp::osp_model_description(&p.table, &p.options, out),
     )
     .map_err(|source| PackError::WriteOsp { path: osp, source })?;
     Ok(p)

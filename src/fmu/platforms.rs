@@ -129,8 +129,9 @@ pub fn check_library(platform: &str, bytes: &[u8]) -> Result<(), String> {
     {
         Ok(())
     } else {
+        let article = if expected.starts_with('E') { "an" } else { "a" };
         Err(format!(
-            "expected a {expected} for {platform}, found: {found}"
+            "expected {article} {expected} for {platform}, found: {found}"
         ))
     }
 }

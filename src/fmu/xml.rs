@@ -56,19 +56,24 @@ pub fn real(v: f64) -> String {
 /// Stop: five periods of the lowest flexible mode (rounded up likewise), or 1 s when the
 /// body has no flexible mode.
 pub fn default_experiment(scene: &Scene) -> (f64, f64) {
-    let f1 = scene
-        .body
-        .frequencies_hz
-        .iter()
-        .copied()
-        .find(|&f| f > 1e-6);
-    match f1 {
+    match lowest_frequency(scene) {
         Some(f1) => (
             nice(5.0 / f1, true),
             nice((1.0 / (20.0 * f1)).min(1e-3), false),
         ),
         None => (1.0, 1e-3),
     }
+}
+
+/// The lowest flexible eigenfrequency of the scene's kept modes (Hz; above 1e-6 Hz),
+/// if it has one.
+pub fn lowest_frequency(scene: &Scene) -> Option<f64> {
+    scene
+        .body
+        .frequencies_hz
+        .iter()
+        .copied()
+        .find(|&f| f > 1e-6)
 }
 
 /// Round to 1, 2 or 5 times a power of ten, up or down.

@@ -16,7 +16,7 @@ use super::fields::{LINE_COLUMNS, is_blank, parse_int, parse_real, shown};
 #[derive(Debug, thiserror::Error)]
 pub enum CoordsError {
     /// The file could not be read.
-    #[error("{file}: cannot read the file: {source}")]
+    #[error("{file}: cannot read the coordinate file: {}", super::input::describe(.source))]
     Io {
         /// File name.
         file: String,
@@ -86,10 +86,13 @@ pub type Coords = Vec<(i64, [f64; 3])>;
 /// Read node coordinates: CSV when the name ends in `.csv`, a `/NODE` deck otherwise.
 pub fn read_coords(path: &Path) -> Result<Coords, CoordsError> {
     let name = path.display().to_string();
-    let bytes = super::input::read_regular(path).map_err(|source| CoordsError::Io {
-        file: name.clone(),
-        source,
-    })?;
+    let bytes =
+        super::input::read_bounded(path, super::input::Limit::Coordinates).map_err(|source| {
+            CoordsError::Io {
+                file: name.clone(),
+                source,
+            }
+        })?;
     let csv = path
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("csv"));
@@ -204,7 +207,8 @@ fn node_line(line: &[u8]) -> Result<NodeLine, NodeIssue> {
 }
 
 fn show((id, x): NodeLine) -> String {
-    format!("[{id}, {}, {}, {}]", x[0], x[1], x[2])
+    use crate::num::num;
+    format!("[{id}, {}, {}, {}]", num(x[0]), num(x[1]), num(x[2]))
 }
 
 fn squeeze(field: &[u8]) -> Vec<u8> {

@@ -82,7 +82,7 @@ impl fmt::Display for At {
 #[derive(Debug, thiserror::Error)]
 pub enum FxbError {
     /// The file could not be read at all.
-    #[error("{file}: cannot read the file: {source}")]
+    #[error("{file}: cannot read the body file: {}", super::input::describe(.source))]
     Io {
         /// File name.
         file: String,

@@ -50,12 +50,7 @@ impl FieldValue for f64 {
         parse_real(text)
     }
     fn show(&self) -> String {
-        let a = self.abs();
-        if a != 0.0 && !(1e-4..1e15).contains(&a) {
-            format!("{self:e}")
-        } else {
-            self.to_string()
-        }
+        crate::num::num(*self)
     }
 }
 

@@ -1,12 +1,19 @@
-//! Reading an input file safely: only regular files, never more bytes than the file can
-//! need, and a compressed archive named as such instead of parsed as text. Every command
-//! opens its `.fxb` through [`open_fxb`] (or reads it whole through [`read_fxb_bytes`])
-//! and its coordinate file through [`read_regular`], so `fxbody info /dev/zero` is
-//! refused at once instead of growing without bound.
+//! Reading an input file safely: only regular files, never more bytes than the file's
+//! format can need, and a compressed archive named as such instead of parsed as text.
+//! Every command opens its `.fxb` through [`open_fxb`] (or reads it whole through
+//! [`read_fxb_bytes`]), and every other input (coordinates, node lists, FE matrices,
+//! libraries) through [`read_bounded`] or [`check_input`] with the bound of its kind
+//! ([`Limit`]), so `fxbody info /dev/zero`, a FIFO or a 50 GB file given by mistake is
+//! refused at once instead of read without end.
+//!
+//! A path is checked twice: by its metadata before it is opened (a device is never
+//! opened, which for some devices has effects of its own), and by the opened file's
+//! metadata, opened without blocking (so a path swapped for a FIFO in between neither
+//! hangs nor is read).
 
 use std::fs::File;
 use std::io::{self, Read};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// Bytes read before the header is looked at (enough for any comments before it).
 const PREFIX: u64 = 64 * 1024;
@@ -18,6 +25,58 @@ const BYTES_PER_VALUE: u128 = 80;
 
 /// Allowance on top of the per-value bound (comments, blank lines, the header itself).
 const SLACK: u128 = 16 * 1024 * 1024;
+
+/// The largest file of each kind of input without a header that sizes it: what a
+/// command reads is refused above it, before it is read.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Limit {
+    /// Node coordinates (a `/NODE` deck, a CSV file, GRID or `*NODE` cards):
+    /// [`MAX_TEXT`]. The formats carry no count, and a deck may be a whole model's
+    /// starter file.
+    Coordinates,
+    /// FE matrix files (DMIG, Abaqus, CalculiX `.sti`/`.mas`/`.dof`): [`MAX_TEXT`].
+    Matrix,
+    /// A reference the `demo` and `study` commands read (JSON or CSV): [`MAX_TEXT`].
+    Reference,
+    /// A node list (`--nodes-file`): [`MAX_NODE_LIST`].
+    NodeList,
+    /// A shared library (`--lib`, `--binary`): [`MAX_LIBRARY`].
+    Library,
+}
+
+/// The largest coordinate, FE matrix or reference file read: 4 GiB, far above the
+/// starter deck of a whole vehicle model (a /NODE line takes 70 bytes: 60 million nodes)
+/// or a dense matrix of the import's largest size in any of its formats.
+pub const MAX_TEXT: u64 = 4 << 30;
+
+/// The largest node list read: 64 MiB, three million node IDs of 20 characters.
+pub const MAX_NODE_LIST: u64 = 64 << 20;
+
+/// The largest shared library read: 256 MiB. fxbody's own release library is about
+/// 1.3 MB and a debug build about 60 MB; anything larger is not one.
+pub const MAX_LIBRARY: u64 = 256 << 20;
+
+impl Limit {
+    /// The bound in bytes.
+    pub fn bytes(self) -> u64 {
+        match self {
+            Limit::Coordinates | Limit::Matrix | Limit::Reference => MAX_TEXT,
+            Limit::NodeList => MAX_NODE_LIST,
+            Limit::Library => MAX_LIBRARY,
+        }
+    }
+
+    /// What such a file is, for messages.
+    pub fn what(self) -> &'static str {
+        match self {
+            Limit::Coordinates => "coordinate file",
+            Limit::Matrix => "matrix file",
+            Limit::Reference => "reference file",
+            Limit::NodeList => "node list",
+            Limit::Library => "shared library",
+        }
+    }
+}
 
 fn refused(why: String) -> io::Error {
     io::Error::new(io::ErrorKind::InvalidInput, why)
@@ -42,17 +101,135 @@ fn kind(meta: &std::fs::Metadata) -> &'static str {
     }
 }
 
+/// Refuse `meta` unless it is a regular file.
+fn regular(meta: &std::fs::Metadata) -> io::Result<u64> {
+    if meta.is_file() {
+        Ok(meta.len())
+    } else {
+        Err(refused(format!(
+            "expected a regular file, found {}",
+            kind(meta)
+        )))
+    }
+}
+
 /// The size of `path`, refusing anything but a regular file (following links) before
 /// opening it: a device or FIFO would be read without end.
 pub fn regular_size(path: &Path) -> io::Result<u64> {
-    let meta = std::fs::metadata(path)?;
-    if !meta.is_file() {
-        return Err(refused(format!(
-            "expected a regular file, found {}",
-            kind(&meta)
-        )));
+    regular(&std::fs::metadata(path)?)
+}
+
+/// Open `path` for reading if it is a regular file: checked by its metadata before it
+/// is opened, then opened without blocking and checked again on the open file (a path
+/// swapped for a FIFO or a device in between is refused, not waited on). Returns the
+/// file and its size.
+pub fn open_regular(path: &Path) -> io::Result<(File, u64)> {
+    use std::os::unix::fs::OpenOptionsExt;
+    regular_size(path)?;
+    let file = std::fs::OpenOptions::new()
+        .read(true)
+        .custom_flags(libc::O_NONBLOCK)
+        .open(path)?;
+    let size = regular(&file.metadata()?)?;
+    Ok((file, size))
+}
+
+/// The message of a file larger than its format can need.
+fn too_large(size: u64, bound: u128, what: &str) -> io::Error {
+    refused(format!(
+        "the file has {size} bytes, more than the {bound} bytes a {what} can need: is it the right file?"
+    ))
+}
+
+/// [`open_regular`], refusing a file larger than `limit` allows, before reading it.
+pub fn open_bounded(path: &Path, limit: Limit) -> io::Result<(File, u64)> {
+    let (file, size) = open_regular(path)?;
+    if size > limit.bytes() {
+        return Err(too_large(size, limit.bytes().into(), limit.what()));
     }
-    Ok(meta.len())
+    Ok((file, size))
+}
+
+/// Read a whole file checked as [`open_bounded`] says, refusing a compressed one.
+pub fn read_bounded(path: &Path, limit: Limit) -> io::Result<Vec<u8>> {
+    let (file, size) = open_bounded(path, limit)?;
+    read_whole(file, size)
+}
+
+/// The `size` bytes of an open regular file (no more, should it grow meanwhile),
+/// refusing a compressed file.
+fn read_whole(file: File, size: u64) -> io::Result<Vec<u8>> {
+    let mut bytes = Vec::with_capacity(size.min(1 << 30) as usize);
+    file.take(size).read_to_end(&mut bytes)?;
+    if let Some(what) = compressed_kind(&bytes) {
+        return Err(refused(format!("this is {what}")));
+    }
+    Ok(bytes)
+}
+
+/// An input refused before it was read, naming the option it was given with (`--coords`,
+/// `--lib`, `FXBODY_LIB=`...), the path, and why: what the path is instead of a regular
+/// file, that it is missing, or that it is larger than its kind of file can need.
+#[derive(Debug)]
+pub struct InputError {
+    /// The option the path was given with (an environment variable as `NAME=`).
+    pub option: String,
+    /// The path as given.
+    pub path: PathBuf,
+    /// Why it was refused.
+    pub source: io::Error,
+}
+
+impl std::fmt::Display for InputError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let sep = if self.option.ends_with('=') { "" } else { " " };
+        write!(
+            f,
+            "{}{sep}{}: {}",
+            self.option,
+            self.path.display(),
+            describe(&self.source)
+        )
+    }
+}
+
+impl std::error::Error for InputError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        Some(&self.source)
+    }
+}
+
+/// An I/O error in words: "no such file" rather than the system's "(os error 2)".
+pub fn describe(e: &io::Error) -> String {
+    match e.kind() {
+        io::ErrorKind::NotFound => "no such file".into(),
+        io::ErrorKind::PermissionDenied => "permission denied".into(),
+        _ => e.to_string(),
+    }
+}
+
+impl InputError {
+    /// `source` as the refusal of `path`, given as `option`.
+    pub fn new(option: &str, path: &Path, source: io::Error) -> InputError {
+        InputError {
+            option: option.into(),
+            path: path.to_path_buf(),
+            source,
+        }
+    }
+}
+
+/// Check the input `path`, given as `option`, before anything reads it: a regular file
+/// no larger than `limit` allows. Returns its size.
+pub fn check_input(option: &str, path: &Path, limit: Limit) -> Result<u64, InputError> {
+    open_bounded(path, limit)
+        .map(|(_, size)| size)
+        .map_err(|e| InputError::new(option, path, e))
+}
+
+/// Read the whole input `path`, given as `option`, checked as [`check_input`] says.
+pub fn read_input(option: &str, path: &Path, limit: Limit) -> Result<Vec<u8>, InputError> {
+    read_bounded(path, limit).map_err(|e| InputError::new(option, path, e))
 }
 
 /// The archive format whose magic number `bytes` start with, if any.
@@ -73,15 +250,10 @@ pub fn compressed_kind(bytes: &[u8]) -> Option<&'static str> {
 }
 
 /// Read a whole regular file (refusing devices, FIFOs, directories and compressed
-/// files).
+/// files), of any size: for files whose format bounds them itself (the FMU's scene file).
 pub fn read_regular(path: &Path) -> io::Result<Vec<u8>> {
-    let size = regular_size(path)?;
-    let mut bytes = Vec::with_capacity(size.min(1 << 30) as usize);
-    File::open(path)?.take(size).read_to_end(&mut bytes)?;
-    if let Some(what) = compressed_kind(&bytes) {
-        return Err(refused(format!("this is {what}")));
-    }
-    Ok(bytes)
+    let (file, size) = open_regular(path)?;
+    read_whole(file, size)
 }
 
 /// The most bytes a `.fxb` file with this 7-integer header can sensibly need:
@@ -99,26 +271,49 @@ pub fn size_bound(header: &[i64; 7]) -> u128 {
     values.saturating_mul(BYTES_PER_VALUE).saturating_add(SLACK)
 }
 
-/// The header as blank-separated integers on the first line that is not a comment or
-/// blank; `None` when it does not read so (the parser then reports it).
-fn header_of(prefix: &[u8]) -> Option<[i64; 7]> {
-    let line = prefix
-        .split(|&b| b == b'\n')
-        .map(|l| l.strip_suffix(b"\r").unwrap_or(l))
-        .find(|l| {
-            !(l.starts_with(b"#") || l.starts_with(b"$") || l.iter().all(u8::is_ascii_whitespace))
-        })?;
-    let text = std::str::from_utf8(line).ok()?;
-    let v: Vec<i64> = text
-        .split_ascii_whitespace()
-        .map(|t| t.parse().ok())
-        .collect::<Option<_>>()?;
-    v.try_into().ok()
+/// What the start of a `.fxb` text says about its header.
+#[derive(Debug, PartialEq)]
+enum Seen {
+    /// The first data line, read as the parser reads it: the 7 header integers.
+    Header([i64; 7]),
+    /// The first data line is no header: the parser refuses it without reading on.
+    NoHeader,
+    /// No complete data line yet.
+    NotYet,
+}
+
+/// The header on the first data line of `prefix` (after comments, blank lines and a
+/// byte-order mark), read as the parser reads it ([`super::fields::read_line`], or the
+/// blank-separated reading the parser uses to explain an ambiguous header). A line is
+/// looked at only when it ends inside `prefix` or `complete` says the prefix is the
+/// whole file.
+fn header_of(prefix: &[u8], complete: bool) -> Seen {
+    let text = prefix.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(prefix);
+    let mut lines = text.split(|&b| b == b'\n').peekable();
+    while let Some(line) = lines.next() {
+        if lines.peek().is_none() && !complete {
+            return Seen::NotYet;
+        }
+        let line = line.strip_suffix(b"\r").unwrap_or(line);
+        let comment = matches!(line.first(), Some(b'#' | b'$'));
+        if comment || line.iter().all(|&b| super::fields::is_blank(b)) {
+            continue;
+        }
+        let values = super::fields::read_line::<i64>(line)
+            .ok()
+            .or_else(|| super::fields::free_values::<i64>(line));
+        return match values.and_then(|v| <[i64; 7]>::try_from(v).ok()) {
+            Some(h) => Seen::Header(h),
+            None => Seen::NoHeader,
+        };
+    }
+    Seen::NotYet
 }
 
 /// A `.fxb` file opened for reading, checked as [`open_fxb`] says.
 pub struct FxbInput {
-    /// The first bytes of the file, already read (up to 64 KiB).
+    /// The first bytes of the file, already read: up to its header line (at least
+    /// 64 KiB, at most 16 MiB).
     pub prefix: Vec<u8>,
     /// The rest of the file.
     pub rest: std::io::Take<File>,
@@ -128,23 +323,44 @@ pub struct FxbInput {
 
 /// Open a `.fxb` file: a regular file, not compressed, and no larger than its header
 /// counts can need ([`size_bound`]); refused before it is read whole otherwise. Its first
-/// bytes are read to check this; the rest is left to the caller.
+/// bytes are read to check this (64 KiB, then doubling, up to the header line; a file with
+/// no header line in its first 16 MiB is refused); the rest is left to the caller.
 pub fn open_fxb(path: &Path) -> io::Result<FxbInput> {
-    let size = regular_size(path)?;
-    let mut file = File::open(path)?;
+    let (mut file, size) = open_regular(path)?;
     let mut prefix = Vec::new();
-    (&mut file)
-        .take(PREFIX.min(size))
-        .read_to_end(&mut prefix)?;
-    if let Some(what) = compressed_kind(&prefix) {
-        return Err(refused(format!("this is {what}")));
-    }
-    if let Some(h) = header_of(&prefix) {
-        let bound = size_bound(&h);
-        if u128::from(size) > bound {
+    let seen = loop {
+        // Doubling: a long run of comments costs a few scans, not one per 64 KiB.
+        let want = PREFIX
+            .max(prefix.len() as u64)
+            .min(size - prefix.len() as u64);
+        (&mut file).take(want).read_to_end(&mut prefix)?;
+        if let Some(what) = compressed_kind(&prefix) {
+            return Err(refused(format!("this is {what}")));
+        }
+        let complete = prefix.len() as u64 >= size || want == 0;
+        match header_of(&prefix, complete) {
+            Seen::NotYet if !complete && (prefix.len() as u128) < SLACK => continue,
+            seen => break seen,
+        }
+    };
+    match seen {
+        Seen::Header(h) => {
+            let bound = size_bound(&h);
+            if u128::from(size) > bound {
+                let what = format!(
+                    "body file with this header (Nbmod {} Nbstat {} Nbnod {} Irot {})",
+                    h[0], h[1], h[2], h[3]
+                );
+                return Err(too_large(size, bound, &what));
+            }
+        }
+        // The parser stops at the first data line, which is in the prefix.
+        Seen::NoHeader => {}
+        Seen::NotYet if prefix.len() as u64 >= size => {}
+        Seen::NotYet => {
             return Err(refused(format!(
-                "the file has {size} bytes, more than the {bound} bytes its header (Nbmod {} Nbstat {} Nbnod {} Irot {}) can need: is it the right file?",
-                h[0], h[1], h[2], h[3]
+                "no header line (the 7 integers Nbmod Nbstat Nbnod Irot Idamp Iblo Ifile) in the first {} bytes of {size}: is it a .fxb file?",
+                prefix.len()
             )));
         }
     }
@@ -171,11 +387,21 @@ mod tests {
 
     #[test]
     fn header_and_bound() {
-        let h = header_of(b"# c\n$ d\n\n   2 1  3 0 1 1 0\n1 2\n").unwrap();
+        let Seen::Header(h) = header_of(b"# c\n$ d\n\n   2 1  3 0 1 1 0\n1 2\n", false) else {
+            panic!("no header")
+        };
         assert_eq!(h, [2, 1, 3, 0, 1, 1, 0]);
+        // Fixed columns whose numbers touch, as the parser reads them.
+        let touching = b"       2       1       3       0       1       1       0\n";
+        assert!(matches!(header_of(touching, false), Seen::Header(_)));
+        assert_eq!(header_of(b"# only a comment\n   2 1", false), Seen::NotYet);
+        assert!(matches!(
+            header_of(b"   2 1 3 0 1 1 0", true),
+            Seen::Header(_)
+        ));
         // 3 ids + 12 + 14*6*3 modes + 2 + 3 + 78 + 18*12*2 = 782 values.
         assert_eq!(size_bound(&h), 782 * 80 + 16 * 1024 * 1024);
-        assert!(header_of(b"abc\n").is_none());
+        assert_eq!(header_of(b"abc\n", false), Seen::NoHeader);
         assert_eq!(
             compressed_kind(b"\x1f\x8b\x08"),
             compressed_kind(b"\x1f\x8b")

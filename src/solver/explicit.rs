@@ -74,7 +74,10 @@ impl Explicit {
         if !(opts.dt_factor > 0.0 && opts.dt_factor <= 1.0) {
             return Err(SolverError::Unsupported {
                 method: Method::Explicit,
-                why: format!("dt_factor must lie in (0, 1], got {}", opts.dt_factor),
+                why: format!(
+                    "dt_factor must lie in (0, 1], got {}",
+                    crate::num::num(opts.dt_factor)
+                ),
             });
         }
         let body = &scene.body;

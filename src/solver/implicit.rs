@@ -91,7 +91,10 @@ impl Implicit {
         if !(0.0..=1.0).contains(&rho_inf) {
             return Err(SolverError::Unsupported {
                 method: Method::Implicit,
-                why: format!("rho_inf must lie in [0, 1], got {rho_inf}"),
+                why: format!(
+                    "rho_inf must lie in [0, 1], got {}",
+                    crate::num::num(rho_inf)
+                ),
             });
         }
         let body = &scene.body;
@@ -142,7 +145,9 @@ impl Implicit {
             if !(s > 0.0 && s.is_finite()) {
                 self.cache_h[slot] = f64::NAN;
                 return Err(SolverError::Singular(format!(
-                    "generalised-alpha effective mass of mode {j} is {s} for step {h}"
+                    "generalised-alpha effective mass of mode {j} is {} for step {} s",
+                    crate::num::num(s),
+                    crate::num::num(h)
                 )));
             }
             *inv = 1.0 / s;

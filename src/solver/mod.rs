@@ -82,7 +82,7 @@ pub enum SolverError {
         why: String,
     },
     /// A step size that is not finite and positive.
-    #[error("step size must be finite and > 0, got {0}")]
+    #[error("step size must be finite and > 0, got {}", crate::num::num(*.0))]
     BadStep(f64),
     /// A slice of the wrong length was passed.
     #[error("{what}: expected {expected} values, got {found}")]

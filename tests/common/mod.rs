@@ -19,6 +19,43 @@ use fxbody::scene::Scene;
 use fxbody::solver::Solver;
 use serde_json::Value;
 
+/// Whether every tool the suite uses must be there (`FXBODY_REQUIRE_ALL=1`, which
+/// scripts/test.sh sets when `CI=true`): a test that would skip a part for want of a tool
+/// fails instead.
+pub fn require_all() -> bool {
+    std::env::var("FXBODY_REQUIRE_ALL").as_deref() == Ok("1")
+}
+
+/// Whether the tool `name` runs (`name --version` succeeds). When it does not: a panic
+/// under [`require_all`], else `false` with the skipped part said on stdout.
+pub fn tool_available(name: &str, skipped: &str) -> bool {
+    let ok = std::process::Command::new(name)
+        .arg("--version")
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if !ok {
+        assert!(
+            !require_all(),
+            "{name} is required (FXBODY_REQUIRE_ALL=1, set by scripts/test.sh in CI) but does not run: install it ({skipped} needs it)"
+        );
+        println!("{name} not found: {skipped} skipped");
+    }
+    ok
+}
+
+/// Whether golden files are to be rewritten rather than compared (`FXBODY_BLESS` set,
+/// by hand). Never in a CI run: there a blessed golden file would pass whatever the
+/// product writes, so a set `FXBODY_BLESS` under [`require_all`] fails the test
+/// (scripts/test.sh unsets it besides).
+pub fn blessing() -> bool {
+    let bless = std::env::var_os("FXBODY_BLESS").is_some();
+    assert!(
+        !(bless && require_all()),
+        "FXBODY_BLESS is set in a CI run (FXBODY_REQUIRE_ALL=1): golden files are compared there, never rewritten"
+    );
+    bless
+}
+
 /// The repository's root folder.
 pub fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))

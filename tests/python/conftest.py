@@ -9,6 +9,32 @@ import subprocess
 import pytest
 
 REPO = pathlib.Path(__file__).resolve().parents[2]
+# Set by scripts/test.sh when CI=true: every master, tool and package the suite uses must
+# be there, and a test that would be skipped for want of one fails instead (a broken
+# LD_LIBRARY_PATH for ecos's libtbb, a missing valgrind, a venv without Dask).
+REQUIRE_ALL = os.environ.get("FXBODY_REQUIRE_ALL") == "1"
+
+
+def missing(what, why):
+    """A dependency `what` is not usable (`why`): the calling test fails under
+    FXBODY_REQUIRE_ALL=1 (CI), and is skipped with the reason otherwise (a run by hand
+    on a machine without it)."""
+    if REQUIRE_ALL:
+        pytest.fail(f"{what} is required (FXBODY_REQUIRE_ALL=1, set by scripts/test.sh in CI) "
+                    f"but not usable: {why}", pytrace=False)
+    pytest.skip(f"{what}: {why}")
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_makereport(item, call):
+    """Under FXBODY_REQUIRE_ALL=1 no test may pass by being skipped, whatever skipped it
+    (a `skipif` on a missing tool included): the skip is reported as a failure."""
+    outcome = yield
+    report = outcome.get_result()
+    if REQUIRE_ALL and report.skipped and not hasattr(report, "wasxfail"):
+        report.outcome = "failed"
+        reason = report.longrepr[2] if isinstance(report.longrepr, tuple) else report.longrepr
+        report.longrepr = f"skipped under FXBODY_REQUIRE_ALL=1 (CI), which allows no skip: {reason}"
 FIXTURES = REPO / "fixtures"
 EXE = REPO / "target" / "release" / "fxbody"
 BODIES = ["cantilever", "cantilever_damped", "freefree", "truss"]
@@ -18,11 +44,12 @@ def nastran_python():
     """The Python of the pyNastran venv (pyNastran pins numpy < 2, so it is not in the test
     venv): FXBODY_NASTRAN_PYTHON, which scripts/test.sh sets after making .venv-nastran
     from requirements-nastran.txt. Unset (pytest run by hand): the test is skipped, saying
-    so; set but unusable: the test fails."""
+    so (it fails under FXBODY_REQUIRE_ALL=1, see `missing`); set but unusable: the test
+    fails."""
     exe = os.environ.get("FXBODY_NASTRAN_PYTHON")
     if not exe:
-        pytest.skip("pyNastran is not in the test venv (it needs numpy < 2): run "
-                    "scripts/test.sh, which makes .venv-nastran and sets FXBODY_NASTRAN_PYTHON")
+        missing("pyNastran", "it is not in the test venv (it needs numpy < 2): run scripts/test.sh, "
+                "which makes .venv-nastran and sets FXBODY_NASTRAN_PYTHON")
     run = subprocess.run([exe, "-c", "import pyNastran; print(pyNastran.__version__)"],
                          capture_output=True, text=True)
     assert run.returncode == 0, f"FXBODY_NASTRAN_PYTHON={exe} has no pyNastran: {run.stderr}"
@@ -30,10 +57,15 @@ def nastran_python():
 
 
 def pack_fmu(out_dir, body, *extra, name=None):
-    """Pack fixtures/<body>.fxb with its /NODE deck; returns the .fmu path."""
+    """Pack fixtures/<body>.fxb with its /NODE deck into a folder of its own,
+    out_dir/<name>/<name>.fmu (the model name stays the body's: fxbody refuses a second
+    FMU of one model name in a folder, whose OSP description it would overwrite);
+    returns the .fmu path."""
     if not EXE.is_file():
         pytest.fail(f"{EXE} is missing: run `cargo build --release` first (scripts/test.sh does)")
-    out = pathlib.Path(out_dir) / f"{name or body}.fmu"
+    folder = pathlib.Path(out_dir) / (name or body)
+    folder.mkdir(parents=True, exist_ok=True)
+    out = folder / f"{name or body}.fmu"
     cmd = [str(EXE), "pack", str(FIXTURES / f"{body}.fxb"), "--coords",
            str(FIXTURES / f"{body}.nodes.rad"), "-o", str(out), *extra]
     run = subprocess.run(cmd, capture_output=True, text=True)

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 from fmpy import read_model_description
 
-from conftest import REPO, pack_fmu, reference
+from conftest import REPO, missing, pack_fmu, reference
 
 sys.path.insert(0, str(REPO / "examples"))
 import dask_sweep  # noqa: E402
@@ -34,7 +34,7 @@ def cluster():
     try:
         from dask.distributed import LocalCluster
     except ImportError as e:
-        pytest.skip(f"dask.distributed cannot be imported: {e}")
+        missing("dask.distributed", f"cannot be imported: {e}")
     with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as c:
         yield c
 

@@ -70,7 +70,27 @@ pub struct ImportArgs {
     pub naive_mass_r: bool,
 }
 
+/// Every input of `import`, checked before any is read: a regular file no larger than
+/// its kind can need (a device, FIFO or directory is refused naming the option).
+fn check_inputs(args: &ImportArgs) -> Result<(), String> {
+    use fxbody::fxb::input::{Limit, check_input};
+    let given = [
+        ("DMIG file", &args.model, Limit::Matrix),
+        ("--stiffness", &args.stiffness, Limit::Matrix),
+        ("--mass", &args.mass, Limit::Matrix),
+        ("--dof-map", &args.dof_map, Limit::Matrix),
+        ("--coords", &args.coords, Limit::Coordinates),
+    ];
+    for (option, path, limit) in given {
+        if let Some(p) = path {
+            check_input(option, p, limit).map_err(|e| e.to_string())?;
+        }
+    }
+    Ok(())
+}
+
 fn read_matrices(args: &ImportArgs) -> Result<(SymMatrix, SymMatrix), String> {
+    check_inputs(args)?;
     let e = |e: fe::FeError| e.to_string();
     if let Some(model) = &args.model {
         return Ok((

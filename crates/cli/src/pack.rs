@@ -125,9 +125,13 @@ pub fn run(args: &PackArgs) -> Result<(), String> {
         method,
         binaries: args.binary.clone(),
     };
-    if let Some(h) = &args.header {
-        refuse_overwrite(h, &[("body file", &args.file)]).map_err(|e| e.to_string())?;
-    }
+    let header_prefix = match &args.header {
+        Some(h) => {
+            refuse_overwrite(h, &[("body file", &args.file)]).map_err(|e| e.to_string())?;
+            Some(fxbody::fmu::header::macro_prefix(h)?)
+        }
+        None => None,
+    };
     let progress = super::progress::Progress::start("packing");
     let p = pack_reporting(&req, &popts, &lib, &args.output, &mut |done, total| {
         progress.update(done, total)
@@ -137,10 +141,10 @@ pub fn run(args: &PackArgs) -> Result<(), String> {
     for n in &p.notes {
         eprintln!("fxbody pack: {n}");
     }
-    if let Some(h) = &args.header {
+    if let (Some(h), Some(prefix)) = (&args.header, &header_prefix) {
         std::fs::write(
             h,
-            fxbody::fmu::header::c_header(&p.table, &p.options, &p.guid),
+            fxbody::fmu::header::c_header(prefix, &p.table, &p.options, &p.guid),
         )
         .map_err(|e| format!("--header {}: cannot write: {e}", h.display()))?;
     }
@@ -162,8 +166,8 @@ pub fn run(args: &PackArgs) -> Result<(), String> {
 /// Node IDs from a `--nodes-file`: one per line or comma-separated (blanks also
 /// separate), `#` starts a comment. Errors name the file and line.
 pub fn read_nodes_file(path: &std::path::Path) -> Result<Vec<i64>, String> {
-    let bytes = fxbody::fxb::input::read_regular(path)
-        .map_err(|e| format!("--nodes-file {}: cannot read: {e}", path.display()))?;
+    use fxbody::fxb::input::{Limit, read_input};
+    let bytes = read_input("--nodes-file", path, Limit::NodeList).map_err(|e| e.to_string())?;
     let text = String::from_utf8(bytes)
         .map_err(|_| format!("--nodes-file {}: not UTF-8 text", path.display()))?;
     parse_nodes(&text, &path.display().to_string())
@@ -181,8 +185,9 @@ pub fn parse_nodes(text: &str, name: &str) -> Result<Vec<i64>, String> {
             let tok = tok.trim();
             ids.push(tok.parse::<i64>().map_err(|_| {
                 format!(
-                    "{name}:{}: expected an integer node ID, found '{tok}'",
-                    k + 1
+                    "{name}:{}: expected an integer node ID, found '{}'",
+                    k + 1,
+                    fxbody::fxb::fields::shown(tok.as_bytes())
                 )
             })?);
         }

@@ -7,7 +7,7 @@ use std::fmt::Write;
 use std::path::PathBuf;
 
 use fxbody::fxb;
-use fxbody::num::count;
+use fxbody::num::{count, num};
 use fxbody::reduce::{node_indices, select_nodes, to_fxb, truncate};
 
 /// Arguments of `reduce`.
@@ -40,9 +40,10 @@ pub fn run(args: &ReduceArgs) -> Result<(), String> {
             let t = truncate(&body, fmax).map_err(|e| e.to_string())?;
             let _ = writeln!(
                 o,
-                "modes: kept {} of {} (up to {fmax} Hz; highest kept {:.6e} Hz), dropped {}",
+                "modes: kept {} of {} (up to {} Hz; highest kept {:.6e} Hz), dropped {}",
                 t.kept,
                 body.nl(),
+                num(fmax),
                 t.kept_hz.last().copied().unwrap_or(0.0),
                 t.dropped_hz.len()
             );

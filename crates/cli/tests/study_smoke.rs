@@ -1,14 +1,17 @@
 //! Smoke test of `fxbody study --quick` (a few seconds in release): the command runs end
 //! to end and its numbers agree with independent references.
 //! - exact modal stepping on the cantilever step load stays within 0.5% of the fixture's
-//!   full finite-element response (ref.json) at every step size;
+//!   full finite-element response (ref.json) at every step size, and the error the study
+//!   reports is the one this test recomputes from ref.json itself (its own run of the
+//!   body, its own sample alignment and peak), so a study that compared against anything
+//!   else (its own runs, a shifted grid) fails here;
 //! - the measured explicit stability limit is dt_fx within 1% (central difference is
 //!   stable for omega_max h < 2, BENCHMARKS.md), and the exact and implicit methods are
 //!   stable at 10^4 dt_fx (unconditional stability);
 //! - mode-count sweep: the cantilever truncated at 30 f1 (7 of 20 modes, residual
 //!   flexibility added) stays within 0.5% of the full FE step response with the exact
-//!   method, and the error does not grow as modes are added (it is checked against the
-//!   full FE model, not against our own untruncated run);
+//!   method (recomputed here too), and the error does not grow as modes are added (it is
+//!   checked against the full FE model, not against our own untruncated run);
 //! - the chart has one panel per scene.
 //!
 //! It stays in the cli package (the study is a package of its own, run through the
@@ -16,12 +19,87 @@
 //! target/release/fxbody, which the root package's tests (tests/all/cli and others) run
 //! through `fxbody_host::workspace_binary`.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::Command;
+use std::sync::Arc;
+
+use fxbody::scene::Scene;
+use fxbody::solver::{Method, Options, build};
+use serde_json::Value;
+
+fn fixtures() -> PathBuf {
+    PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join("fixtures")
+}
+
+/// The cantilever with its tip exposed, at the deck's coordinates, truncated at `fmax`
+/// Hz when given; and its reference.
+fn cantilever_tip(fmax: Option<f64>) -> (Scene, Value) {
+    let dir = fixtures();
+    let reference: Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("cantilever.ref.json")).unwrap())
+            .unwrap();
+    let tip = reference["tip_node"].as_i64().unwrap();
+    let body = fxbody::body::load(&dir.join("cantilever.fxb")).unwrap();
+    let deck = fxbody::fxb::coords::read_coords(&dir.join("cantilever.nodes.rad")).unwrap();
+    let x = deck.iter().find(|(id, _)| *id == tip).unwrap().1;
+    let k = body.node_index(tip).unwrap();
+    let scene = Scene::new(Arc::new(body), vec![k], vec![x]);
+    match fmax {
+        Some(f) => (scene.truncated(f).unwrap().0, reference),
+        None => (scene, reference),
+    }
+}
+
+/// The largest |uy - uy_ref| over the reference samples a run with step `h` lands on,
+/// relative to the reference's largest |uy|: the exact method, the step load of
+/// ref.json held from t = 0 on the tip's fy. Written here from ref.json alone.
+fn step_error(scene: &Scene, reference: &Value, h: f64) -> f64 {
+    let resp = reference["responses"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|r| r["name"] == "step")
+        .unwrap();
+    let num = |v: &Value| -> Vec<f64> {
+        v.as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .collect()
+    };
+    let t = num(&resp["t"]);
+    let uy = num(&resp["nodes"][reference["tip_node"].to_string()]["uy"]);
+    let amp = resp["amplitude"].as_f64().unwrap();
+    let dt = t[1] - t[0];
+    let peak = uy.iter().fold(0.0f64, |a, u| a.max(u.abs()));
+    let mut s = build(scene, Method::Exact, &Options::default()).unwrap();
+    s.set_loads(&[0.0, amp, 0.0, 0.0, 0.0, 0.0]).unwrap();
+    let steps = (t[t.len() - 1] / h).round() as usize;
+    let mut pos = [0.0; 3];
+    let mut worst = 0.0f64;
+    for i in 1..=steps {
+        s.step(h).unwrap();
+        let k = i as f64 * h / dt;
+        if (k - k.round()).abs() > 1e-6 || k.round() as usize >= uy.len() {
+            continue;
+        }
+        s.positions(&mut pos);
+        worst = worst.max((pos[1] - scene.x0[0][1] - uy[k.round() as usize]).abs());
+    }
+    worst / peak
+}
+
+/// `got` (the study's, printed to 7 digits) equals `want` (recomputed) to its digits.
+fn same(got: f64, want: f64, what: &str) {
+    assert!(
+        (got - want).abs() <= 1e-6 * want.abs(),
+        "{what}: the study reports {got:e}, recomputed from ref.json {want:e}"
+    );
+}
 
 fn run_quick() -> PathBuf {
     let out = std::env::temp_dir().join(format!("fxbody_study_smoke_{}", std::process::id()));
-    let fixtures = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join("fixtures");
+    let fixtures = fixtures();
     let status = Command::new(env!("CARGO_BIN_EXE_fxbody"))
         .args(["study", "--quick", "--fixtures"])
         .arg(&fixtures)
@@ -37,7 +115,7 @@ fn run_quick() -> PathBuf {
     out
 }
 
-fn csv(path: &PathBuf) -> Vec<Vec<String>> {
+fn csv(path: &Path) -> Vec<Vec<String>> {
     std::fs::read_to_string(path)
         .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
         .lines()
@@ -50,14 +128,23 @@ fn csv(path: &PathBuf) -> Vec<Vec<String>> {
 fn quick_study_matches_independent_references() {
     let out = run_quick();
     let rows = csv(&out.join("study.csv"));
-    let exact_step: Vec<f64> = rows
+    let exact_step: Vec<(f64, f64)> = rows
         .iter()
         .filter(|r| r[0] == "cantilever step" && r[1] == "exact")
-        .map(|r| r[4].parse().expect("error is a number"))
+        .map(|r| {
+            (
+                r[2].parse().expect("h is a number"),
+                r[4].parse().expect("error is a number"),
+            )
+        })
         .collect();
     assert!(exact_step.len() >= 3, "{exact_step:?}");
-    for e in &exact_step {
-        assert!(*e < 5e-3, "exact vs full FE, step load: {e}");
+    let (tip, reference) = cantilever_tip(None);
+    for &(h, e) in &exact_step {
+        let want = step_error(&tip, &reference, h);
+        println!("cantilever step, exact, h = {h:e}: study {e:e}, recomputed {want:e}");
+        same(e, want, &format!("exact at h = {h:e}"));
+        assert!(want < 5e-3, "exact vs full FE, step load: {want}");
     }
 
     let modes = csv(&out.join("modes.csv"));
@@ -77,7 +164,17 @@ fn quick_study_matches_independent_references() {
         .find(|r| r[0] == "cantilever step" && r[1] == "30 f1" && r[4] == "exact")
         .expect("30 f1 row");
     let e30: f64 = at30[6].parse().expect("error is a number");
-    assert!(e30 < 5e-3, "30 f1 truncation vs full FE: {e30}");
+    let (fmax, kept, h): (f64, usize, f64) = (
+        at30[2].parse().unwrap(),
+        at30[3].parse().unwrap(),
+        at30[5].parse().unwrap(),
+    );
+    let (cut, _) = cantilever_tip(Some(fmax));
+    assert_eq!(cut.body.nl(), kept, "modes below {fmax} Hz");
+    let want = step_error(&cut, &reference, h);
+    println!("cantilever step, 30 f1 ({kept} modes), exact: study {e30:e}, recomputed {want:e}");
+    same(e30, want, "30 f1 truncation");
+    assert!(want < 5e-3, "30 f1 truncation vs full FE: {want}");
     for w in exact_modes.windows(2) {
         assert!(
             w[1].0 >= w[0].0,

@@ -207,7 +207,7 @@ fn chirp_fe(case: &Case, grid: f64, path: &std::path::Path) -> Result<Option<Ref
     let Load::Chirp { f1, t_end, .. } = case.load else {
         return Ok(None);
     };
-    let Ok(text) = std::fs::read_to_string(path) else {
+    let Some(text) = read_optional(path)? else {
         return Ok(None);
     };
     let mut lines = text.lines();
@@ -255,8 +255,8 @@ fn chirp_fe(case: &Case, grid: f64, path: &std::path::Path) -> Result<Option<Ref
 }
 
 /// Peer rows from `peers.csv`: peer, scene, h, error, ns_per_step, cpu_per_s, note.
-fn read_peers(path: &std::path::Path) -> Vec<Vec<String>> {
-    std::fs::read_to_string(path)
+fn read_peers(path: &std::path::Path) -> Result<Vec<Vec<String>>, String> {
+    Ok(read_optional(path)?
         .map(|t| {
             t.lines()
                 .skip(1)
@@ -265,7 +265,21 @@ fn read_peers(path: &std::path::Path) -> Vec<Vec<String>> {
                 .filter(|r: &Vec<String>| r.len() >= 6)
                 .collect()
         })
-        .unwrap_or_default()
+        .unwrap_or_default())
+}
+
+/// A file of the output folder the study reads when it is there (`--out`: the
+/// references and peer results the Python scripts write): `None` when missing, refused
+/// when it is no regular text file of a sane size ([`fxbody::fxb::input::read_input`]).
+fn read_optional(path: &std::path::Path) -> Result<Option<String>, String> {
+    use fxbody::fxb::input::{Limit, read_input};
+    if !path.exists() {
+        return Ok(None);
+    }
+    let bytes = read_input("--out", path, Limit::Reference).map_err(|e| e.to_string())?;
+    String::from_utf8(bytes)
+        .map(Some)
+        .map_err(|_| format!("--out {}: not UTF-8 text", path.display()))
 }
 
 /// Run `study`.
@@ -450,7 +464,7 @@ pub fn run(args: &StudyArgs) -> Result<(), String> {
     write(&args.out.join("bound.csv"), &bcsv)?;
 
     // Peers (written beforehand by study/peers.py, same body, scene and step).
-    let peers = read_peers(&args.out.join("peers.csv"));
+    let peers = read_peers(&args.out.join("peers.csv"))?;
     let mut pmd = String::new();
     if !peers.is_empty() {
         pmd.push_str("| peer | scene | h (s) | peer error | peer ns/step | ours | our error | our ns/step | peer / ours (time) |\n|---|---|---|---|---|---|---|---|---|\n");

@@ -169,8 +169,11 @@ pub fn fixture(dir: &Path, name: &str) -> Result<(Scene, Json), String> {
     let fxb = dir.join(format!("{name}.fxb"));
     let body = load_body(&fxb).map_err(|e| e.to_string())?;
     let refp = dir.join(format!("{name}.ref.json"));
-    let text = std::fs::read_to_string(&refp).map_err(|e| format!("{}: {e}", refp.display()))?;
-    let j = serde_json::from_str::<Json>(&text).map_err(|e| format!("{}: {e}", refp.display()))?;
+    let text =
+        fxbody::fxb::input::read_input("--fixtures", &refp, fxbody::fxb::input::Limit::Reference)
+            .map_err(|e| e.to_string())?;
+    let j =
+        serde_json::from_slice::<Json>(&text).map_err(|e| format!("{}: {e}", refp.display()))?;
     let tip = j
         .get("tip_node")
         .and_then(Json::as_f64)

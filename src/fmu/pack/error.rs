@@ -9,6 +9,7 @@ use crate::fmu::options::UnknownUnits;
 use crate::fmu::scene_io::SceneError;
 use crate::fmu::zip::ZipError;
 use crate::fxb::coords::CoordsError;
+use crate::fxb::input::InputError;
 
 /// Why packing failed: each names the file or option at fault.
 #[derive(Debug, thiserror::Error)]
@@ -64,6 +65,18 @@ pub enum PackError {
         /// The stem's length in characters.
         chars: usize,
     },
+    /// No `--name` and the file stem gives a reserved identifier ([`reserved`]).
+    #[error(
+        "{body}: the model identifier would be the file name's '{id}', which is {why}: give --name"
+    )]
+    StemReserved {
+        /// The body file.
+        body: String,
+        /// The identifier the stem gives.
+        id: String,
+        /// What reserves it.
+        why: &'static str,
+    },
     /// The exposed nodes do not make a scene.
     #[error(transparent)]
     Scene(#[from] SceneError),
@@ -80,12 +93,10 @@ pub enum PackError {
         /// The input path.
         input: PathBuf,
     },
-    /// `--lib` names no file.
-    #[error("--lib {}: no such file", .0.display())]
-    NoLib(PathBuf),
-    /// `FXBODY_LIB` names no file.
-    #[error("FXBODY_LIB={}: no such file", .0.display())]
-    NoEnvLib(PathBuf),
+    /// An input path (`--coords`, `--lib`, `FXBODY_LIB`, `--binary`) that is not a
+    /// regular file of a size its kind can have, refused before it is read.
+    #[error(transparent)]
+    Input(#[from] InputError),
     /// The running executable's path is unknown (needed to find the library).
     #[error("cannot locate the running executable: {0}")]
     Exe(std::io::Error),
@@ -95,14 +106,6 @@ pub enum PackError {
          or give --lib PATH or FXBODY_LIB"
     )]
     LibNotFound(String),
-    /// The library could not be read.
-    #[error("{}: cannot read the library: {source}", .path.display())]
-    ReadLib {
-        /// The library path.
-        path: PathBuf,
-        /// Why.
-        source: std::io::Error,
-    },
     /// `--step` or `--stop` not a finite time > 0.
     #[error("--{what}: expected a time > 0 (s), found {}", crate::num::num(*.value))]
     Time {
@@ -135,6 +138,9 @@ pub enum PackError {
         /// Why it was refused.
         why: String,
     },
+    /// The OSP model description would describe another FMU, or is not ours.
+    #[error(transparent)]
+    Osp(#[from] crate::fmu::osp::OspClash),
     /// The OSP model description could not be written.
     #[error("{}: cannot write the OSP model description: {source}", .path.display())]
     WriteOsp {
@@ -182,6 +188,100 @@ pub enum NameError {
         /// The name as shown.
         shown: String,
     },
+    /// A name C or FMI reserves ([`reserved`]).
+    #[error(
+        "--name: {shown} is {why}: the model identifier must be a C identifier of its own; choose another name"
+    )]
+    Reserved {
+        /// The name as shown.
+        shown: String,
+        /// What reserves it.
+        why: &'static str,
+    },
+}
+
+/// The keywords of C (C89 to C23): not identifiers at all.
+const C_KEYWORDS: [&str; 59] = [
+    "auto",
+    "break",
+    "case",
+    "char",
+    "const",
+    "continue",
+    "default",
+    "do",
+    "double",
+    "else",
+    "enum",
+    "extern",
+    "float",
+    "for",
+    "goto",
+    "if",
+    "inline",
+    "int",
+    "long",
+    "register",
+    "restrict",
+    "return",
+    "short",
+    "signed",
+    "sizeof",
+    "static",
+    "struct",
+    "switch",
+    "typedef",
+    "union",
+    "unsigned",
+    "void",
+    "volatile",
+    "while",
+    "alignas",
+    "alignof",
+    "bool",
+    "constexpr",
+    "false",
+    "nullptr",
+    "static_assert",
+    "thread_local",
+    "true",
+    "typeof",
+    "typeof_unqual",
+    "_Alignas",
+    "_Alignof",
+    "_Atomic",
+    "_BitInt",
+    "_Bool",
+    "_Complex",
+    "_Decimal128",
+    "_Decimal32",
+    "_Decimal64",
+    "_Generic",
+    "_Imaginary",
+    "_Noreturn",
+    "_Static_assert",
+    "_Thread_local",
+];
+
+/// Why C or FMI 2.0 reserves `name` as an identifier, if it does: a C keyword; `main`,
+/// the program's entry point; a name starting with `fmi2`, the prefix of every FMI 2.0
+/// function, type and macro (`fmi2DoStep`, `fmi2Component`); or, as C reserves them
+/// for any use, a name starting with `__` or with `_` and an upper-case letter.
+pub fn reserved(name: &str) -> Option<&'static str> {
+    let b = name.as_bytes();
+    if C_KEYWORDS.contains(&name) {
+        Some("a C keyword")
+    } else if name == "main" {
+        Some("the C program's entry point")
+    } else if name.starts_with("fmi2") {
+        Some("in FMI 2.0's namespace (fmi2..., its functions, types and macros)")
+    } else if b.len() > 1 && b[0] == b'_' && (b[1] == b'_' || b[1].is_ascii_uppercase()) {
+        Some(
+            "reserved by C for the implementation (it starts with __ or _ and an upper-case letter)",
+        )
+    } else {
+        None
+    }
 }
 
 /// Longest `--name`: the model identifier names the library inside the archive and
@@ -189,8 +289,8 @@ pub enum NameError {
 pub const MAX_NAME: usize = 64;
 
 /// Check a model name given by the user: 1 to [`MAX_NAME`] characters, a letter or `_`
-/// first, then letters, digits or `_`, so it is usable unchanged as a file name and a
-/// C identifier (the FMI modelIdentifier).
+/// first, then letters, digits or `_`, and no name C or FMI reserves ([`reserved`]), so
+/// it is usable unchanged as a file name and a C identifier (the FMI modelIdentifier).
 pub fn check_name(name: &str) -> Result<(), NameError> {
     let shown = if name.chars().count() > 40 {
         format!(
@@ -212,6 +312,9 @@ pub fn check_name(name: &str) -> Result<(), NameError> {
     }
     if name.starts_with(|c: char| c.is_ascii_digit()) {
         return Err(NameError::DigitFirst { shown });
+    }
+    if let Some(why) = reserved(name) {
+        return Err(NameError::Reserved { shown, why });
     }
     Ok(())
 }

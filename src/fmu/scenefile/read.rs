@@ -68,12 +68,19 @@ pub fn from_bytes(bytes: &[u8], file: &str) -> Result<Stored, SceneFileError> {
     let [freq_file, alpha, beta] = [b.f64(7), b.f64(8), b.f64(9)];
     let p0 = Matrix3::from_fn(|i, j| b.f64(10 + 3 * i + j));
     if let Some(v) = (7..BODY_WORDS).map(|k| b.f64(k)).find(|v| !v.is_finite()) {
-        return Err(r.bad("BODY", format!("value {v}: expected finite")));
+        return Err(r.bad(
+            "BODY",
+            format!("value {}: expected finite", crate::num::num(v)),
+        ));
     }
     if alpha < 0.0 || beta < 0.0 {
         return Err(r.bad(
             "BODY",
-            format!("Rayleigh alpha {alpha}, beta {beta}: expected >= 0"),
+            format!(
+                "Rayleigh alpha {}, beta {}: expected >= 0",
+                crate::num::num(alpha),
+                crate::num::num(beta)
+            ),
         ));
     }
     if nbstat > nl || ![0, 12, 15].contains(&nr) {
@@ -89,7 +96,10 @@ pub fn from_bytes(bytes: &[u8], file: &str) -> Result<Stored, SceneFileError> {
         .map(|k| [0, 1, 2].map(|c| node.f64(m + 3 * k + c)))
         .collect();
     if let Some(v) = x0.iter().flatten().find(|v| !v.is_finite()) {
-        return Err(r.bad("NODE", format!("coordinate {v}: expected finite")));
+        return Err(r.bad(
+            "NODE",
+            format!("coordinate {}: expected finite", crate::num::num(*v)),
+        ));
     }
     if let Some(k) = (1..m).find(|&k| node_ids[..k].contains(&node_ids[k])) {
         return Err(r.bad("NODE", format!("node {} is listed twice", node_ids[k])));
@@ -98,7 +108,10 @@ pub fn from_bytes(bytes: &[u8], file: &str) -> Result<Stored, SceneFileError> {
     let phi_l = r.matrix(b"PHIL", rows, nl)?;
     let m_l = DVector::from_vec(r.section(b"MASS", Some(nl))?.f64s());
     if let Some(v) = m_l.iter().find(|v| v.is_nan() || **v <= 0.0) {
-        return Err(r.bad("MASS", format!("local mass {v}: expected > 0")));
+        return Err(r.bad(
+            "MASS",
+            format!("local mass {}: expected > 0", crate::num::num(*v)),
+        ));
     }
     let k_l = match stif_kind {
         STIF_DENSE => r.matrix(b"STIF", nl, nl)?,
@@ -348,7 +361,10 @@ impl<'a> Reader<'a> {
         {
             return Err(self.bad(
                 &name,
-                format!("value {k} is {}: expected finite", words.f64(k)),
+                format!(
+                    "value {k} is {}: expected finite",
+                    crate::num::num(words.f64(k))
+                ),
             ));
         }
         Ok(words)

@@ -138,7 +138,7 @@ impl Implicit {
                 why: format!(
                     "rho_inf must be in [0, {MAX_RHO}] for a free body, got {}: the frame \
                      constraints (index 3) need some damping at infinite frequency",
-                    opts.rho_inf
+                    crate::num::num(opts.rho_inf)
                 ),
             });
         }

@@ -286,7 +286,10 @@ fn load_body_reads_and_validates() {
     assert!(matches!(e, fxbody::body::LoadError::Body(_)), "{e}");
     let e = fxbody::body::load(&dir.join("missing.fxb")).unwrap_err();
     assert!(matches!(e, fxbody::body::LoadError::File(_)), "{e}");
-    assert!(e.to_string().contains("missing.fxb: cannot read the file"));
+    assert!(
+        e.to_string()
+            .contains("missing.fxb: cannot read the body file")
+    );
 }
 
 #[test]

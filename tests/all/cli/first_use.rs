@@ -5,33 +5,14 @@
 //! counts take the singular, `demo` outside the repository says where the fixtures are
 //! and `study` does not write into docs/ by default.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use super::{run, run_in, scratch};
+use std::process::Output;
 
 use crate::common::{fixture, fixture_reference, nums, root};
-
-fn run_in(dir: &Path, args: &[&str]) -> Output {
-    Command::new(fxbody_host::workspace_binary("fxbody"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("run fxbody")
-}
-
-fn run(args: &[&str]) -> Output {
-    run_in(&root(), args)
-}
 
 fn ok(o: &Output) -> String {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     String::from_utf8(o.stdout.clone()).unwrap()
-}
-
-fn scratch(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("fxb_cli_first_{tag}_{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
 }
 
 #[test]
@@ -123,7 +104,7 @@ fn text_effective_masses_are_zero_and_the_threshold_is_stated() {
 
 #[test]
 fn pack_takes_blanks_in_nodes_and_says_one_node() {
-    let d = scratch("nodes");
+    let d = scratch("first_nodes");
     let fmu = d.join("c.fmu");
     let out = ok(&run(&[
         "pack",
@@ -163,7 +144,7 @@ fn pack_takes_blanks_in_nodes_and_says_one_node() {
 
 #[test]
 fn demo_outside_the_repository_says_where_the_fixtures_are() {
-    let d = scratch("demo");
+    let d = scratch("first_demo");
     let o = run_in(&d, &["demo"]);
     assert_eq!(o.status.code(), Some(2));
     let e = String::from_utf8_lossy(&o.stderr);
@@ -177,7 +158,7 @@ fn demo_outside_the_repository_says_where_the_fixtures_are() {
 
 #[test]
 fn study_writes_beside_the_user_not_into_docs() {
-    let d = scratch("study");
+    let d = scratch("first_study");
     let docs_spin = root().join("docs/spin.csv");
     let before = std::fs::metadata(&docs_spin)
         .and_then(|m| m.modified())

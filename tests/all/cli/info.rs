@@ -1,18 +1,10 @@
 //! `fxbody info` end to end, running the built binary: JSON keys exactly as specified,
 //! numbers against closed forms, exit code 2 and a message naming the line on errors.
 
+use super::run;
 use std::f64::consts::PI;
-use std::process::{Command, Output};
 
 use crate::common::root;
-
-fn run(args: &[&str]) -> Output {
-    Command::new(fxbody_host::workspace_binary("fxbody"))
-        .args(args)
-        .current_dir(root())
-        .output()
-        .expect("run fxbody")
-}
 
 /// The top-level `"key": value` pairs of the one-key-per-line JSON that `info` prints.
 fn fields(json: &str) -> Vec<(String, String)> {
@@ -200,11 +192,16 @@ fn info_agrees_with_the_fixture_references() {
     let dir = std::env::var("FXBODY_FIXTURES_DIR")
         .map(std::path::PathBuf::from)
         .unwrap_or_else(|_| root().join("fixtures"));
+    let names = ["cantilever", "cantilever_damped", "freefree", "truss"];
     let mut checked = 0;
-    for name in ["cantilever", "cantilever_damped", "freefree", "truss"] {
-        let Ok(reference) = std::fs::read_to_string(dir.join(format!("{name}.ref.json"))) else {
-            continue;
-        };
+    for name in names {
+        let path = dir.join(format!("{name}.ref.json"));
+        let reference = std::fs::read_to_string(&path).unwrap_or_else(|e| {
+            panic!(
+                "{}: {e}: every shipped body has its reference",
+                path.display()
+            )
+        });
         let fxb = dir.join(format!("{name}.fxb"));
         let out = run(&["info", "--json", fxb.to_str().unwrap()]);
         assert!(
@@ -241,6 +238,7 @@ fn info_agrees_with_the_fixture_references() {
         checked += 1;
     }
     println!("fixtures checked: {checked}");
+    assert_eq!(checked, names.len(), "every shipped body checked");
 }
 
 /// Issue 13 class 3: `info` on a body with a negative beta is refused naming block 4.

@@ -3,30 +3,15 @@
 //! not what they claim (devices, FIFOs, compressed files, files far larger than their
 //! header can need) at once, with exit code 2 and a message naming the file.
 
+use super::{run, scratch};
 use std::path::PathBuf;
 use std::process::{Command, Output};
 use std::time::{Duration, Instant};
 
 use crate::common::root;
 
-fn run(args: &[&str]) -> Output {
-    Command::new(fxbody_host::workspace_binary("fxbody"))
-        .args(args)
-        .current_dir(root())
-        .output()
-        .expect("run fxbody")
-}
-
 fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-/// A fresh scratch folder for one test.
-fn scratch(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("fxb_cli_inputs_{tag}_{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
 }
 
 fn data(name: &str) -> PathBuf {
@@ -40,14 +25,14 @@ fn info_refuses_a_device_at_once() {
     assert_eq!(out.status.code(), Some(2));
     assert_eq!(
         stderr(&out).trim(),
-        "fxbody: /dev/zero: cannot read the file: expected a regular file, found a character device"
+        "fxbody: /dev/zero: cannot read the body file: expected a regular file, found a character device"
     );
     assert!(t.elapsed() < Duration::from_secs(20), "{:?}", t.elapsed());
 }
 
 #[test]
 fn info_refuses_a_fifo_and_a_directory() {
-    let d = scratch("fifo");
+    let d = scratch("inputs_fifo");
     let fifo = d.join("pipe.fxb");
     assert!(
         Command::new("mkfifo")
@@ -74,7 +59,7 @@ fn info_refuses_a_fifo_and_a_directory() {
 
 #[test]
 fn compressed_files_are_named_as_such() {
-    let d = scratch("gz");
+    let d = scratch("inputs_gz");
     let gz = d.join("body.fxb.gz");
     std::fs::write(&gz, b"\x1f\x8b\x08\x00\x00\x00\x00\x00\x00\x03garbage").unwrap();
     let out = run(&["info", gz.to_str().unwrap()]);
@@ -99,7 +84,7 @@ fn compressed_files_are_named_as_such() {
 fn a_file_far_larger_than_its_header_needs_is_refused_before_reading() {
     // Header: one node, no local modes, blocked: a few values; the bound is 16 MiB plus
     // 80 bytes per value. 17 MiB of comment after it is refused by size alone.
-    let d = scratch("big");
+    let d = scratch("inputs_big");
     let p = d.join("big.fxb");
     let mut text = b"       0       0       1       0       0       1       0\n".to_vec();
     let line = format!("#{}\n", "x".repeat(1023));
@@ -120,7 +105,7 @@ fn a_file_far_larger_than_its_header_needs_is_refused_before_reading() {
 
 #[test]
 fn pack_refuses_to_overwrite_its_inputs() {
-    let d = scratch("over");
+    let d = scratch("inputs_over");
     let body = d.join("a.fxb");
     std::fs::copy(data("body_b1_r0_d0.fxb"), &body).unwrap();
     let coords = d.join("nodes.csv");
@@ -173,7 +158,7 @@ fn pack_refuses_to_overwrite_its_inputs() {
 
 #[test]
 fn pack_checks_the_model_name() {
-    let d = scratch("name");
+    let d = scratch("inputs_name");
     let out = d.join("x.fmu");
     let long = "a".repeat(300);
     for (name, want) in [

@@ -13,22 +13,15 @@
 //!   platform in the description and the documentation, and refuses wrong platforms and
 //!   files that are not that platform's shared library.
 
+use super::{run, scratch};
 use std::collections::HashMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output};
 
 use fxbody::fmu::model::Model;
 use fxbody::solver::{self, Method, Options};
 
-use crate::common::{c_build, root};
-
-fn run(args: &[&str]) -> Output {
-    Command::new(fxbody_host::workspace_binary("fxbody"))
-        .args(args)
-        .current_dir(root())
-        .output()
-        .expect("run fxbody")
-}
+use crate::common::c_build;
 
 fn ok(o: &Output) -> String {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
@@ -43,13 +36,6 @@ fn refused(o: &Output) -> String {
         String::from_utf8_lossy(&o.stdout)
     );
     String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-fn scratch(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("fxb_cli_pack_{tag}_{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
 }
 
 /// Unzip `fmu` into `dir`; the files by name.
@@ -155,7 +141,7 @@ fn check_osp(osp: &str, md: &str) -> Vec<String> {
 
 #[test]
 fn osp_ports_name_the_description_s_variables() {
-    let d = scratch("osp");
+    let d = scratch("pack_osp");
     for (body, coords, nodes) in [
         (
             "cantilever",
@@ -197,7 +183,7 @@ fn osp_ports_name_the_description_s_variables() {
 
 #[test]
 fn step_stop_and_method_reach_the_description_and_the_running_fmu() {
-    let d = scratch("exp");
+    let d = scratch("pack_exp");
     let fmu = d.join("tip.fmu");
     let header = d.join("tip.h");
     let err = ok(&run(&[
@@ -308,7 +294,7 @@ fn step_stop_and_method_reach_the_description_and_the_running_fmu() {
 
 #[test]
 fn pack_options_are_refused_where_they_cannot_apply() {
-    let d = scratch("refuse");
+    let d = scratch("pack_refuse");
     let out = d.join("f.fmu");
     let o = out.to_str().unwrap();
     let free = "fixtures/freefree.fxb";
@@ -355,7 +341,7 @@ fn pe64_dll() -> Vec<u8> {
 
 #[test]
 fn binary_adds_a_checked_library_for_another_platform() {
-    let d = scratch("bin");
+    let d = scratch("pack_bin");
     let dll = d.join("fxbody.dll");
     std::fs::write(&dll, pe64_dll()).unwrap();
     let fmu = d.join("tip.fmu");

@@ -2,10 +2,11 @@
 //! makes is refused, the run completes, and its result equals the Rust solver driven
 //! directly with the same loads (the misuse changed nothing). When valgrind is on PATH,
 //! a short pass runs under memcheck too: no invalid access, no definite or indirect
-//! leak (scripts/robust-long.sh runs the long one).
+//! leak (scripts/robust-long.sh runs the long one); in CI (`FXBODY_REQUIRE_ALL=1`) a
+//! missing valgrind fails the test.
 #![cfg(target_os = "linux")]
 
-use crate::common::c_build;
+use crate::common::{c_build, tool_available};
 
 use std::process::Command;
 
@@ -50,12 +51,10 @@ fn careless_c_master_and_short_valgrind_pass() {
         pos[1]
     );
 
-    // The short memcheck pass, if valgrind is here.
-    let Ok(v) = Command::new("valgrind").arg("--version").output() else {
-        println!("valgrind not found: memcheck pass skipped (scripts/robust-long.sh)");
+    // The short memcheck pass, if valgrind is here (required in CI).
+    if !tool_available("valgrind", "the memcheck pass") {
         return;
-    };
-    assert!(v.status.success());
+    }
     let log = fx.dir.join("memcheck.log");
     let out = Command::new("valgrind")
         .args([
@@ -102,7 +101,7 @@ fn careless_on_free(name: &str, node: i64) {
     let exe = fx.dir.join("robust_driver");
     c_build::compile_c_master("robust_driver.c", &exe, &["-g", "-O1"]);
     let res = fxbody::fmu::scene_io::load_resources(&fx.dir.join("resources")).unwrap();
-    let valgrind = Command::new("valgrind").arg("--version").output().is_ok();
+    let valgrind = tool_available("valgrind", "the memcheck pass");
     // A longer pass on demand: FXBODY_MEMCHECK_STEPS=N.
     let memcheck_steps: usize = std::env::var("FXBODY_MEMCHECK_STEPS")
         .ok()
@@ -140,7 +139,6 @@ fn careless_on_free(name: &str, node: i64) {
             pos[1]
         );
         if !valgrind {
-            println!("valgrind not found: memcheck pass skipped");
             continue;
         }
         let log = fx

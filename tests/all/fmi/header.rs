@@ -43,7 +43,7 @@ fn committed_header_is_fresh() {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/include/fxbody.h");
     let committed = std::fs::read_to_string(path).unwrap_or_default();
     let generated = fxbody::fmi::GENERATED_HEADER;
-    if std::env::var_os("FXBODY_BLESS").is_some() {
+    if crate::common::blessing() {
         std::fs::write(path, generated).expect("write include/fxbody.h");
         return;
     }

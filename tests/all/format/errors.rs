@@ -365,7 +365,7 @@ fn io_error_names_the_file() {
     assert!(matches!(e, FxbError::Io { .. }));
     assert!(
         e.to_string()
-            .starts_with("/nonexistent/dir/x.fxb: cannot read the file"),
+            .starts_with("/nonexistent/dir/x.fxb: cannot read the body file"),
         "{e}"
     );
 }

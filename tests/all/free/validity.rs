@@ -356,13 +356,24 @@ fn long_spin_up_under_torque_keeps_the_frame() {
         (ei / analytic - 1.0).abs() < 1e-2,
         "implicit {ei} vs {analytic}"
     );
-    // The explicit drain: never a gain, and shrinking with the spin step.
+    // The explicit drain, as docs/STUDY.md records it (explicit 123.5 J, at SPIN_STEP/10
+    // 253.8 J, of 286.6 J: losses of 57% and 11%, about 2 c per radian turned): within a
+    // percentage point of each, and shrinking with the spin step.
     let (de, df) = (1.0 - ee / analytic, 1.0 - ef / analytic);
-    assert!(de > 0.0 && de < 0.7, "explicit {ee} vs {analytic}");
-    assert!(
-        df > 0.0 && df < 0.5 * de,
-        "drain {df} at SPIN_STEP/10 vs {de}"
+    println!(
+        "explicit energy loss {:.2}%, at SPIN_STEP/10 {:.2}%",
+        100.0 * de,
+        100.0 * df
     );
+    assert!(
+        (de - 0.569).abs() < 0.01,
+        "explicit loss {de:.4} vs STUDY.md's 0.569"
+    );
+    assert!(
+        (df - 0.114).abs() < 0.01,
+        "loss at SPIN_STEP/10 {df:.4} vs STUDY.md's 0.114"
+    );
+    assert!(df < 0.5 * de, "drain {df} at SPIN_STEP/10 vs {de}");
     // Without the spin limit (the scheme before issue 13) the same run leaves the frame
     // further from a rotation, which shows this test can fail.
     let mut raw = Explicit::new(&sc, &Options::default()).unwrap();

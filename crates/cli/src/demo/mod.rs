@@ -45,8 +45,10 @@ fn nums(v: &Json) -> Option<Vec<f64>> {
 }
 
 fn reference(path: &Path) -> Result<Reference, String> {
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let j = serde_json::from_str::<Json>(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+    use fxbody::fxb::input::{Limit, read_input};
+    let text = read_input("--fixtures", path, Limit::Reference).map_err(|e| e.to_string())?;
+    let j =
+        serde_json::from_slice::<Json>(&text).map_err(|e| format!("{}: {e}", path.display()))?;
     let bad = |what: &str| format!("{}: missing or malformed {what}", path.display());
     let tip = j
         .get("tip_node")

@@ -190,7 +190,8 @@ impl Implicit {
         if !converged {
             return Err(SolverError::Singular(format!(
                 "generalised-alpha Newton iteration did not converge in {MAX_ITER} \
-                 iterations (step {h:e})"
+                 iterations (step {} s)",
+                crate::num::num(h)
             )));
         }
         // Accept: the end-of-step kinematics of the converged x.
