@@ -177,6 +177,34 @@ def rigid_props(xyz, k_unused, m):
     return mass, com, rb[3:, 3:], rb
 
 
+# An entry below this fraction of its row and column scale sqrt(a_ii a_jj) is round-off
+# of an exact zero (Cauchy-Schwarz bounds a positive semi-definite matrix's entries by it).
+ROUND_OFF = 1e-12
+
+
+def zero_round_off(a):
+    """`a` with the entries below ROUND_OFF sqrt(|a_ii a_jj|) set to exact zeros: the
+    structure of a computed matrix, the same whatever BLAS kernel computed it."""
+    d = np.sqrt(np.abs(np.diag(a)))
+    out = np.array(a, dtype=float)
+    out[np.abs(out) < ROUND_OFF * np.outer(d, d)] = 0.0
+    return out + 0.0
+
+
+def read_punch(path):
+    """The entries of a punch written by write_punch: {name: {((gi, ci), (gj, cj)): value}}
+    (columns by position: GI 9-24, CI 25-40, value 41-56)."""
+    out, name, col = {}, None, None
+    for line in pathlib.Path(path).read_text().splitlines():
+        if line.startswith("DMIG*"):
+            name, col = line[8:24].strip(), (int(line[24:40]), int(line[40:56]))
+        elif line.startswith("DMIG"):
+            out.setdefault(line[8:16].strip(), {})
+        elif line.startswith("*"):
+            out[name][((int(line[8:24]), int(line[24:40])), col)] = float(line[40:56])
+    return out
+
+
 def triangle(dofs, a):
     """Upper-triangle terms ((gi, ci), (gj, cj), value), i <= j, zeros left out."""
     out = []
