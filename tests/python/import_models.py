@@ -13,6 +13,7 @@ import scipy.linalg as la
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[2] / "fixtures"))
 import fe  # noqa: E402,F401  (also used by the tests as im.fe)
+from modes import fix_sign  # noqa: E402
 
 E, G, RHO = 210e9, 81e9, 7850.0
 SPOINT0 = 900001
@@ -63,12 +64,14 @@ def guyan(k, m, b):
 
 def fixed_interface(k, m, b):
     """The interior rows i (all but b), the fixed-interface modes (omega^2 ascending, mass-
-    normalised shapes over i) and the constraint modes T_c (identity on b, -K_ii^-1 K_ib
-    on i: Guyan's T)."""
+    normalised shapes over i, signed by the fixtures' rule: the first component within
+    1e-6 of the largest is positive, so that another LAPACK kernel, which may return
+    -psi, writes the same matrices) and the constraint modes T_c (identity on b,
+    -K_ii^-1 K_ib on i: Guyan's T)."""
     n = k.shape[0]
     i = np.setdiff1d(np.arange(n), b)
     w2, psi = la.eigh(k[np.ix_(i, i)], m[np.ix_(i, i)])
-    return i, w2, psi, guyan(k, m, b)[2]
+    return i, w2, fix_sign(psi), guyan(k, m, b)[2]
 
 
 def craig_bampton(k, m, b, nmodes, fixed=None):
