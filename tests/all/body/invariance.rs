@@ -10,7 +10,7 @@
 use std::path::Path;
 use std::process::Command;
 
-use crate::common::fmu::Slave;
+use crate::common::fmu::{Slave, extract};
 use crate::common::root;
 use fxbody::body::Body;
 use fxbody::body::invariance::{TOL, check, measure};
@@ -165,11 +165,7 @@ fn packed(body: &Path, dir: &Path) -> (String, String) {
         ..PackRequest::default()
     };
     let p = pack(&req, &lib, &fmu).unwrap();
-    for (name, data) in fxbody_host::zip::read(&std::fs::read(&fmu).unwrap()).unwrap() {
-        let path = dir.join(&name);
-        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
-        std::fs::write(path, data).unwrap();
-    }
+    extract(&fmu, dir);
     (p.guid, fxbody_host::file_uri(&dir.join("resources")))
 }
 
