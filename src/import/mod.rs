@@ -378,6 +378,9 @@ pub fn build(
         .fmax
         .map(|f| reduced.scale.eigenvalue_in(modes::cut_eigenvalue(f)));
     let el = modes::elastic(&reduced, &eig, rigid, cut, &mut |s| stages.done(s))?;
+    if let Some(w) = modes::resolution_warning(&el, free, props.is_some()) {
+        report.warnings.push(w);
+    }
     let basis = modes::local_basis(&reduced, &el, &eig.l, rigid, &node_ids, &mut report)?;
     drop(eig);
     stages.done("cut, static modes, scaling");

@@ -245,15 +245,18 @@ pub fn classify(
             true
         }
         (Support::Detect, _) if all_rigid => true,
+        // K does not resist the coordinates' rigid motions (to 1e-6): a free body, even
+        // when the matrices' rounding (a punch's 10 digits) leaves K definite
+        (Support::Blocked, _) if all_rigid => {
+            return Err(ImportError::SingularBlocked {
+                zero: 6,
+                first: String::new(),
+                hint: "; K's zero modes are exactly rigid motions: did you mean --free?".into(),
+            });
+        }
         (Support::Blocked | Support::Detect, _) => {
             if definite(&model.k).is_ok() {
                 false
-            } else if all_rigid {
-                return Err(ImportError::SingularBlocked {
-                    zero: k_zero_count(eig)?,
-                    first: String::new(),
-                    hint: "; K's zero modes are exactly rigid motions: did you mean --free?".into(),
-                });
             } else if let (Support::Detect, Some(p)) = (support, props) {
                 return Err(not_rigid(
                     model,

@@ -131,6 +131,21 @@ def test_held_frame_with_a_cut(tmp_path):
     assert err < 1e-8, f"tip statics off by {err:.1e}"
 
 
+def test_punched_free_frame_asked_held(tmp_path):
+    """The free 200-element frame as a 10-digit punch, asked --blocked: the rounding
+    leaves K definite (its rigid modes at 1e-15 of the largest instead of 0). With
+    coordinates K does not resist their rigid motions: refused, "did you mean --free?";
+    without them nothing can tell, and the body is imported with a warning that says
+    how little its lowest eigenvalue is determined and what to do if it is free."""
+    ids, xyz, k, m = fr.frame(200, False)
+    args = write(tmp_path, k, m, fr.dofs(ids, False), ids, xyz, punch=True)
+    msg = run([*args, "--blocked"], ok=False).stderr
+    assert "did you mean --free?" in msg, msg
+    out = run([args[0], "--blocked"], out=tmp_path / "h.fxb").stdout
+    assert "double precision guarantees it only to about" in out, out
+    assert "if the body is free, its six lowest modes may be rigid motions" in out, out
+
+
 def blocks(path):
     f = fxbread.read_fxb(pathlib.Path(path).read_text())
     return {key: np.asarray(f[key], float) for key in
