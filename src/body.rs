@@ -6,6 +6,7 @@ use nalgebra::{DMatrix, DVector, Matrix3};
 use crate::fxb::FxbFile;
 
 mod checks;
+pub mod invariance;
 mod load;
 pub mod mass_props;
 mod modal;
@@ -162,8 +163,9 @@ impl Body {
     /// rigid motions (a body whose nodes are all on one line is refused). M_R itself may
     /// be singular: the affine rigid modes of a flat body have a null space that the
     /// frame constraints remove. A stored Freq more than 1% from the largest computed
-    /// eigenfrequency is a warning in [`Body::warnings`]. `source` names the file in
-    /// messages.
+    /// eigenfrequency is a warning in [`Body::warnings`], and so is a free body whose
+    /// rigid part does not turn with it ([`invariance::check`]). `source` names the file
+    /// in messages.
     pub fn from_fxb(file: &FxbFile, source: &str) -> Result<Body, BodyError> {
         Body::from_fxb_owned(file.clone(), source)
     }
@@ -177,6 +179,7 @@ impl Body {
         let local = std::mem::take(&mut file.local_modes);
         let mut body = Body::assemble_with(&file, rigid, local);
         body.warnings = checks::check_body(&body, source)?;
+        body.warnings.extend(invariance::check(&body, source));
         Ok(body)
     }
 

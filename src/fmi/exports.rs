@@ -100,6 +100,9 @@ pub unsafe extern "C" fn fmi2Instantiate(
         name.as_deref().unwrap_or(""),
         loggingOn != fmi2False,
     );
+    // A body whose rigid part does not turn with it (body::invariance): logged as a
+    // warning once the instance exists.
+    let mut warning = None;
     let result = catch_unwind(AssertUnwindSafe(|| -> Result<Box<Instance>, FmiError> {
         if name.as_deref().is_none_or(str::is_empty) {
             return Err(FmiError::NoInstanceName);
@@ -111,6 +114,11 @@ pub unsafe extern "C" fn fmi2Instantiate(
         let location = location.ok_or(FmiError::NoResourceLocation)?;
         let dir = resource_path(&location)?;
         let model = Model::from_resources(&dir)?;
+        let scene_file = dir
+            .join(crate::fmu::scene_io::SCENE_FILE)
+            .display()
+            .to_string();
+        warning = crate::body::invariance::check(&model.scene().body, &scene_file);
         if model.guid != guid {
             return Err(FmiError::GuidMismatch {
                 given: guid,
@@ -131,6 +139,10 @@ pub unsafe extern "C" fn fmi2Instantiate(
     }));
     match result {
         Ok(Ok(inst)) => {
+            if let Some(w) = &warning {
+                inst.log
+                    .send(fmi2Warning, LOG_WARNING, &format!("fmi2Instantiate: {w}"));
+            }
             if inst.log.on(LOG_SOLVER) {
                 let m = &inst.model;
                 inst.log.send(

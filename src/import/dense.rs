@@ -28,16 +28,30 @@ use nalgebra::DMatrix;
 
 use super::tridiag::Tridiagonal;
 
-/// Threads every faer call of an import works with: two, fixed. faer splits its blocked
-/// work by this count, so a result depends on it; fixing it (instead of faer's default of
-/// every core) makes an import's file the same bytes on any machine, whether the pool
-/// has one thread or sixty-four (tested). Two is what CI and these machines have:
-/// measured on the 3000-DOF free grillage, quiet machine, the eigen-solve 6.3 s -> 3.4 s.
+/// Threads every faer call of an import works with, unless `FXBODY_IMPORT_THREADS`
+/// says otherwise (1 to 64; anything else is ignored). faer splits its blocked work by
+/// this count, so the rounding of a result depends on it; fixing it (instead of faer's
+/// default of every core) makes an import repeat bit for bit on one machine whatever
+/// the size of the thread pool (tested). It does not make it repeat across machines:
+/// faer picks its SIMD kernels (AVX2, AVX-512) when it runs, per CPU, and those round
+/// differently, so two CPUs write files that differ in their last digits; no test
+/// compares an imported file's bytes with a committed one (scripts/test.sh imports
+/// at one and two threads). Two is what CI and these machines have: measured on the
+/// 3000-DOF free grillage, quiet machine, the eigen-solve 6.3 s -> 3.4 s.
 const THREADS: usize = 2;
+
+/// The thread count of [`THREADS`], or `FXBODY_IMPORT_THREADS` when it is 1 to 64.
+fn threads() -> usize {
+    std::env::var("FXBODY_IMPORT_THREADS")
+        .ok()
+        .and_then(|v| v.trim().parse().ok())
+        .filter(|n| (1..=64).contains(n))
+        .unwrap_or(THREADS)
+}
 
 /// The parallelism of every faer call here (see [`THREADS`]); never faer's global one.
 fn par() -> Par {
-    Par::rayon(THREADS)
+    Par::rayon(threads())
 }
 
 fn to_faer(a: &DMatrix<f64>) -> Mat<f64> {
@@ -249,6 +263,59 @@ pub fn cholesky(a: &DMatrix<f64>) -> Option<DMatrix<f64>> {
     ))
 }
 
+/// How definite a symmetric matrix is in working precision: the Cholesky factor of the
+/// matrix scaled to a unit diagonal (`D A D`, `D = diag(a_ii)^-1/2`), whose pivots do
+/// not depend on the units of each row; see [`definiteness`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Definiteness {
+    /// The smallest pivot (`L_ii^2`) of the unit-diagonal matrix, in (0, 1]; zero or
+    /// negative when the factorisation failed or a diagonal entry is not positive.
+    pub min_pivot: f64,
+    /// The row of that pivot (or of the failure).
+    pub at: usize,
+}
+
+/// [`Definiteness`] of the symmetric `a` (lower triangle read). Positive definite
+/// matrices of stiffness type keep pivots far from round-off (a 2,970-DOF frame: 1.6e-8,
+/// however small its lowest eigenvalue, 4e-14 of the largest); a singular one fails or
+/// leaves a pivot at round-off.
+pub fn definiteness(a: &DMatrix<f64>) -> Definiteness {
+    let n = a.nrows();
+    if let Some(at) = (0..n).find(|&i| !(a[(i, i)] > 0.0 && a[(i, i)].is_finite())) {
+        return Definiteness { min_pivot: 0.0, at };
+    }
+    let d: Vec<f64> = (0..n).map(|i| 1.0 / a[(i, i)].sqrt()).collect();
+    let mut l = Mat::from_fn(n, n, |i, j| a[(i.max(j), i.min(j))] * d[i] * d[j]);
+    let mut mem = MemBuffer::new(
+        faer::linalg::cholesky::llt::factor::cholesky_in_place_scratch::<f64>(
+            n,
+            par(),
+            Default::default(),
+        ),
+    );
+    match faer::linalg::cholesky::llt::factor::cholesky_in_place(
+        l.as_mut(),
+        Default::default(),
+        par(),
+        MemStack::new(&mut mem),
+        Default::default(),
+    ) {
+        Ok(_) => {
+            let (at, min_pivot) = (0..n)
+                .map(|i| (i, l[(i, i)] * l[(i, i)]))
+                .min_by(|x, y| x.1.total_cmp(&y.1))
+                .unwrap_or((0, 1.0));
+            Definiteness { min_pivot, at }
+        }
+        Err(faer::linalg::cholesky::llt::factor::LltError::NonPositivePivot { index }) => {
+            Definiteness {
+                min_pivot: 0.0,
+                at: index.min(n.saturating_sub(1)),
+            }
+        }
+    }
+}
+
 /// `L^-1 B` for a lower-triangular `l` with a nonzero diagonal.
 pub fn solve_lower(l: &DMatrix<f64>, b: &DMatrix<f64>) -> DMatrix<f64> {
     let lf = to_faer(l);
@@ -311,11 +378,10 @@ mod tests {
         b.transpose() * &b + DMatrix::identity(n, n) * 0.1
     }
 
-    /// faer's eigen-solver against nalgebra's (a second implementation), and its pairs
-    /// against the definition `A v = lambda v`, `V^T V = I`.
-    /// The same bits whatever the thread pool: faer splits its work by [`THREADS`], not
-    /// by the pool's size, so an import writes the same file on any machine. Sizes past
-    /// faer's blocking thresholds, so that its parallel paths run.
+    /// The same bits whatever the thread pool, on this machine: faer splits its work by
+    /// [`THREADS`], not by the pool's size, so an import repeats bit for bit on one CPU
+    /// (not across CPUs: faer's SIMD kernels are chosen per CPU; see [`THREADS`]).
+    /// Sizes past faer's blocking thresholds, so that its parallel paths run.
     #[test]
     fn results_do_not_depend_on_the_pool() {
         let a = spd(400, 7);
@@ -348,6 +414,8 @@ mod tests {
         }
     }
 
+    /// faer's eigen-solver against nalgebra's (a second implementation), and its pairs
+    /// against the definition `A v = lambda v`, `V^T V = I`.
     #[test]
     fn eigen_matches_nalgebra_and_definition() {
         let a = spd(60, 7);

@@ -95,6 +95,9 @@ pub struct Reduced {
     pub m: DMatrix<f64>,
     /// `z = T a`, `|z| x |a|`.
     pub t: DMatrix<f64>,
+    /// The powers of two K and M were scaled by ([`super::scale`]); every output is
+    /// scaled back.
+    pub scale: super::scale::Scale,
 }
 
 impl Reduced {
@@ -198,6 +201,7 @@ pub fn reduce(model: Model, report: &mut Report) -> Result<Reduced, ImportError>
             z,
             k: kaa,
             m: maa,
+            scale: super::scale::Scale::ONE,
         });
     }
     let kzz = sub(&k, &z, &z);
@@ -219,6 +223,7 @@ pub fn reduce(model: Model, report: &mut Report) -> Result<Reduced, ImportError>
         k: kt,
         m: maa,
         t,
+        scale: super::scale::Scale::ONE,
     })
 }
 

@@ -32,6 +32,8 @@ pub mod dofs;
 pub mod modes;
 pub mod report;
 pub mod rigid;
+pub mod scale;
+pub mod support;
 pub mod tridiag;
 pub mod units;
 
@@ -160,8 +162,7 @@ pub enum ImportError {
     /// A rigid motion is not a zero-energy motion of K.
     #[error(
         "rigid motion '{motion}' is not in K's null space (|K r|/|K||r| = {}, largest \
-         residual at {dof}): the matrices are constrained, or the coordinates, units or IDs \
-         do not belong to them", num(*.rel))]
+         residual at {dof}){diagnosis}", num(*.rel))]
     NotRigid {
         /// Which of the six motions (e.g. `rotation about z through the CoM`).
         motion: String,
@@ -169,20 +170,54 @@ pub enum ImportError {
         rel: f64,
         /// The DOF with the largest residual.
         dof: Dof,
+        /// What K's null space says instead (units, zero-energy count), from `"; "`.
+        diagnosis: String,
     },
     /// More zero-energy modes than rigid motions.
     #[error("K has {0} zero-energy modes (6 expected): mechanism")]
     Mechanism(usize),
-    /// Blocked asked for, K singular.
+    /// One DOF's stiffness-to-mass ratio is so far from the others' that no
+    /// double-precision eigen-solve resolves both ([`scale::SPREAD_LIMIT`]).
     #[error(
-        "K is singular ({zero} zero-energy modes): apply the supports before reduction, or \
-         use --free{hint}"
+        "{entries}: the ratios K_ii/M_ii of the DOFs span {spread} (DOF {dof} against \
+         {other}), more than double precision resolves ({}): check that entry (a unit \
+         slip or a typo)",
+        num(scale::SPREAD_LIMIT)
+    )]
+    Spread {
+        /// The DOF farthest from the others.
+        dof: Dof,
+        /// The DOF at the other end of the spread.
+        other: Dof,
+        /// Its K and M diagonal entries and the matrices' names, printed.
+        entries: String,
+        /// The spread, as a power of ten.
+        spread: String,
+    },
+    /// Blocked asked for (or detected), K singular.
+    #[error(
+        "{first}K is singular ({zero} zero-energy modes): apply the supports before \
+         reduction, or use --free{hint}"
     )]
     SingularBlocked {
         /// Number of zero-energy modes.
         zero: usize,
+        /// What the coordinates say about K's null space, said first (units), or empty.
+        first: String,
         /// `; K's zero modes are exactly rigid motions: did you mean --free?` when so.
         hint: String,
+    },
+    /// K is positive definite, but its lowest eigenvalue is at round-off of the largest.
+    #[error(
+        "K's lowest eigenvalue ({}) is at the eigen-solver's round-off of the largest ({}): \
+         the model's frequencies span more than double precision resolves (a stiffness \
+         or mass entry far off, or a model that needs a reduction in the FE code first)",
+        num(*.lowest), num(*.largest))]
+    Unresolved {
+        /// The lowest eigenvalue computed.
+        lowest: f64,
+        /// The largest.
+        largest: f64,
     },
     /// Nothing left after the cut.
     #[error("no local mode: {0}")]
@@ -197,12 +232,18 @@ pub enum ImportError {
     /// The eigen-solve came back inaccurate: the modes are not orthogonal to round-off.
     #[error(
         "the computed modes are not the eigenmodes of the matrices: Phi^T M Phi and \
-         Phi^T K Phi depart from diagonal by {} (at most {} from round-off); the \
-         eigen-solver failed on these matrices, nothing was written",
-        crate::num::num(*.0),
-        crate::num::num(assemble::MAX_DEPARTURE)
+         Phi^T K Phi depart from diagonal by {} (at most {} from round-off at that mode); \
+         the eigen-solver failed on these matrices, nothing was written",
+        crate::num::num(*.departure),
+        crate::num::num(*.allowed)
     )]
-    Inaccurate(f64),
+    Inaccurate {
+        /// The departure found.
+        departure: f64,
+        /// What round-off allows there ([`assemble::MAX_DEPARTURE`] plus the eigen-solve's
+        /// own floor for that mode).
+        allowed: f64,
+    },
 }
 
 /// A built body: the file, the node coordinates it refers to, and the report.
@@ -294,7 +335,9 @@ pub fn build(
     if let Some(u) = &opts.units {
         model.convert(u);
     }
-    let reduced = dofs::reduce(model, &mut report)?;
+    let mut reduced = dofs::reduce(model, &mut report)?;
+    scale::check_spread(&reduced, &k.name, &m.name)?;
+    scale::normalise(&mut reduced);
     stages.done("DOFs, condensation");
     let grid_ids = reduced.grid_ids();
     let node_ids = match &opts.nodes {
@@ -328,10 +371,16 @@ pub fn build(
     stages.done("mass properties");
     let eig = modes::Eigen::solve(&reduced)?;
     stages.done("Cholesky of M, L^-1 K L^-T");
-    let free = modes::classify(&reduced, props.as_ref(), opts.support, &mut report)?;
+    let free = support::classify(&reduced, props.as_ref(), opts.support, &eig, &mut report)?;
+    stages.done("support (definiteness)");
     let rigid = if free { props.as_ref() } else { None };
-    let cut = opts.fmax.map(modes::cut_eigenvalue);
+    let cut = opts
+        .fmax
+        .map(|f| reduced.scale.eigenvalue_in(modes::cut_eigenvalue(f)));
     let el = modes::elastic(&reduced, &eig, rigid, cut, &mut |s| stages.done(s))?;
+    if let Some(w) = modes::resolution_warning(&el, free, props.is_some()) {
+        report.warnings.push(w);
+    }
     let basis = modes::local_basis(&reduced, &el, &eig.l, rigid, &node_ids, &mut report)?;
     drop(eig);
     stages.done("cut, static modes, scaling");
@@ -341,7 +390,7 @@ pub fn build(
         .map_err(|e| ImportError::Invalid(e.to_string()))?;
     stages.done("body check");
     if let Some(p) = &props {
-        report.mass_properties(p);
+        report.mass_properties(p, reduced.scale);
     }
     let node_coords = coords.map(|c| node_ids.iter().map(|id| c[id]).collect());
     Ok(Imported {

@@ -5,7 +5,8 @@
 //! `A = L^-1 K L^-T`) and solved densely. For a free body the six rigid motions R are
 //! first shifted out of the way, `A + sigma (L^T R) Rb^-1 (L^T R)^T`: that moves exactly
 //! the rigid pairs to sigma and leaves the elastic ones, which are M-orthogonal to R,
-//! untouched; each elastic mode is then re-projected to be M-orthogonal to R.
+//! untouched; each elastic mode is then re-projected to be M-orthogonal to R. Whether K
+//! is singular, and where, is [`super::support`]'s question, decided before.
 //!
 //! `--fmax F` keeps the eigenmodes up to F and adds static modes for the unit loads on
 //! the nodes' DOFs: the dropped modes' share of the static response, the flexibility's
@@ -18,19 +19,13 @@
 
 use nalgebra::{DMatrix, DVector};
 
+use super::ImportError;
 use super::dense;
 use super::dofs::Reduced;
 use super::report::Report;
-use super::rigid::{MOTIONS, MassProps};
-use super::{ImportError, Support};
+use super::rigid::MassProps;
+use super::support::NEGATIVE;
 
-/// Eigenvalues at or below this fraction of the largest count as zero-energy. Measured: a
-/// 1938-DOF grillage held at one node has its first eigenvalue at 1.6e-9 of the largest
-/// (stays clear); the rigid eigenvalues of a free bracket punched to 10 digits come out
-/// near 1.5e-12 of the largest (counted as zero).
-pub const ZERO_TOL: f64 = 1e-10;
-/// A rigid motion whose `|K r| / (|K|_F |r|)` exceeds this is not in K's null space.
-pub const RIGID_TOL: f64 = 1e-6;
 /// Singular values of the dropped modes' static share below this fraction of the
 /// largest add no static mode.
 pub const STATIC_TOL: f64 = 1e-8;
@@ -55,81 +50,22 @@ impl Eigen {
                 e.first().copied().unwrap_or(f64::NAN),
                 e.last().copied().unwrap_or(f64::NAN),
             );
-            return Err(if lo < -ZERO_TOL * hi.abs() {
+            let out = |x: f64| model.scale.mass_out(x);
+            return Err(if lo < -NEGATIVE * hi.abs() {
                 ImportError::NegativeMass {
-                    value: lo,
-                    largest: hi,
+                    value: out(lo),
+                    largest: out(hi),
                 }
             } else {
                 ImportError::SingularMass {
-                    value: lo,
-                    largest: hi,
+                    value: out(lo),
+                    largest: out(hi),
                 }
             });
         };
         let a = dense::congruence_inverse(&l, &model.k);
         Ok(Eigen { l, a })
     }
-}
-
-/// Relative residuals `|K r| / (|K|_F |r|)` of the six rigid motions, and for each the
-/// a-set row with the largest `|K r|`.
-pub fn rigid_residuals(model: &Reduced, props: &MassProps) -> Vec<(f64, usize)> {
-    let kn = model.k.norm().max(f64::MIN_POSITIVE);
-    let kr = &model.k * &props.r;
-    (0..6)
-        .map(|i| {
-            let col = kr.column(i);
-            let rel = col.norm() / (kn * props.r.column(i).norm().max(f64::MIN_POSITIVE));
-            (rel, col.iamax())
-        })
-        .collect()
-}
-
-/// Decide free or blocked (see [`Support`]) and check K against it. Returns `true` for a
-/// free body.
-pub fn classify(
-    model: &Reduced,
-    props: Option<&MassProps>,
-    support: Support,
-    report: &mut Report,
-) -> Result<bool, ImportError> {
-    let res = props.map(|p| rigid_residuals(model, p));
-    let all_rigid = res
-        .as_ref()
-        .is_some_and(|r| r.iter().all(|&(rel, _)| rel <= RIGID_TOL));
-    if let Some(r) = &res {
-        report.rigid_residuals = r.iter().map(|&(rel, _)| rel).collect();
-    }
-    let free = match support {
-        Support::Free => true,
-        Support::Blocked => false,
-        Support::Detect => all_rigid,
-    };
-    if free {
-        let Some(r) = res else {
-            return Err(ImportError::CoordinatesNeeded);
-        };
-        if let Some((i, &(rel, row))) = r
-            .iter()
-            .enumerate()
-            .max_by(|a, b| a.1.0.total_cmp(&b.1.0))
-            .filter(|(_, (rel, _))| *rel > RIGID_TOL)
-        {
-            return Err(ImportError::NotRigid {
-                motion: MOTIONS[i].to_string(),
-                rel,
-                dof: model.all[model.a[row]],
-            });
-        }
-    } else if all_rigid {
-        return Err(ImportError::SingularBlocked {
-            zero: 6,
-            hint: "; K's zero modes are exactly rigid motions: did you mean --free?".into(),
-        });
-    }
-    report.free = free;
-    Ok(free)
 }
 
 /// The elastic modes an import keeps and the eigenvalues of those it drops.
@@ -142,6 +78,44 @@ pub struct Elastic {
     pub phi: DMatrix<f64>,
     /// Eigenvalues dropped by the cut, ascending.
     pub dropped: Vec<f64>,
+    /// The largest eigenvalue magnitude of the matrix the eigen-solver took (a free
+    /// body's with its rigid pairs shifted up): its absolute accuracy is round-off of
+    /// this, so a mode of eigenvalue lambda is accurate to `eps solved_norm / lambda`.
+    pub solved_norm: f64,
+}
+
+/// Above this worst-case relative accuracy of the lowest eigenvalue
+/// (`eps |A| / lambda_min`) the import says how far double precision determines it: a
+/// 500-element frame's lowest is at 3.6e-14 of the largest, 6e-3 (its frequency agrees
+/// with LAPACK's to 1.7e-5: the bound is the worst case).
+const RESOLUTION_WARN: f64 = 1e-3;
+
+/// A warning when double precision guarantees the lowest eigenvalue only to
+/// `eps |A| / lambda_min` above [`RESOLUTION_WARN`], which is also what a free body's
+/// rigid modes look like when the matrices' rounding left them slightly stiff (a 10-digit
+/// punch: 5.7e-15 of the largest) and the body was imported as held without coordinates
+/// (its rigid motions unknown); `None` else.
+pub fn resolution_warning(el: &Elastic, free: bool, coords: bool) -> Option<String> {
+    let lowest = *el.lambda.first()?;
+    let ratio = lowest / el.solved_norm;
+    let accuracy = f64::EPSILON / ratio;
+    if accuracy <= RESOLUTION_WARN {
+        return None;
+    }
+    let two = |x: f64| format!("{x:.1e}").parse().unwrap_or(x);
+    Some(format!(
+        "the lowest eigenvalue is {} of the largest: double precision guarantees it only to \
+         about {} relative (its frequency to half that), and matrices written with fewer \
+         digits (a punch's 10) may not determine it at all{}",
+        crate::num::num(two(ratio)),
+        crate::num::num(two(accuracy)),
+        if free || coords {
+            ""
+        } else {
+            "; if the body is free, its six lowest modes may be rigid motions the rounding \
+             left slightly stiff: give its coordinates (--coords) and --free"
+        }
+    ))
 }
 
 /// With a cut keeping at most this share of the modes, only the kept eigenvectors are
@@ -150,9 +124,9 @@ const PARTIAL_SHARE: usize = 4;
 
 /// The elastic eigenpairs, ascending, up to the eigenvalue `cut` when given: eigenvalues
 /// and M-orthonormal modes on the a-set. For a free body (`props` given) the rigid pairs
-/// are removed and every mode is M-orthogonal to the rigid motions. Refuses a negative K,
-/// a singular blocked K and a mechanism. `stage` is told when each step ends (the
-/// import's profile).
+/// are removed and every mode is M-orthogonal to the rigid motions. K must have passed
+/// [`super::support::classify`]; a lowest eigenvalue at round-off is refused as a spread
+/// beyond double precision. `stage` is told when each step ends (the import's profile).
 pub fn elastic(
     model: &Reduced,
     eig: &Eigen,
@@ -161,26 +135,10 @@ pub fn elastic(
     stage: &mut dyn FnMut(&str),
 ) -> Result<Elastic, ImportError> {
     let n = eig.a.nrows();
-    let mut a = eig.a.clone();
-    if let Some(p) = props {
-        // Shift the rigid pairs to sigma, above every elastic eigenvalue (|A|_inf bounds
-        // them): A + sigma U Rb^-1 U^T with U = L^T R (symmetric: Rb is). No larger: the solver's absolute
-        // error grows with the shifted matrix's norm (with 2 |A|_F, 13 times the largest
-        // eigenvalue of a 2040-DOF grillage, it was that much larger).
-        let sigma = 2.0 * dense::inf_norm(&a) + f64::MIN_POSITIVE;
-        let u = eig.l.transpose() * &p.r;
-        let rb_inv =
-            p.rb.clone()
-                .try_inverse()
-                .ok_or_else(|| ImportError::NoModes("the rigid mass R^T M R is singular".into()))?;
-        // On the lower triangle only (all the solvers read): no n x n temporaries.
-        let w = (&u * rb_inv) * sigma;
-        for j in 0..n {
-            for i in j..n {
-                a[(i, j)] += (0..6).map(|c| w[(i, c)] * u[(j, c)]).sum::<f64>();
-            }
-        }
-    }
+    let a = match props {
+        Some(p) => shifted(&eig.a, &eig.l, p)?,
+        None => eig.a.clone(),
+    };
     stage("rigid shift");
     let nel = if props.is_some() {
         n.saturating_sub(6)
@@ -212,24 +170,16 @@ pub fn elastic(
     };
     stage("eigen-solve");
     // Ascending: the elastic pairs first (a free body's rigid pairs were shifted up).
+    // K (or K with the rigid motions stiffened) is definite (support::classify): a
+    // lowest eigenvalue at or below zero is the eigen-solve's round-off of the largest.
     let lambda: Vec<f64> = values[..nel].to_vec();
     let top = lambda.iter().fold(0.0f64, |m, v| m.max(v.abs()));
     if let Some(&lo) = lambda.first()
-        && lo < -ZERO_TOL * top
+        && (lo <= 0.0 || lo.is_nan())
     {
-        return Err(ImportError::NegativeStiffness {
-            value: lo,
-            largest: top,
-        });
-    }
-    let zero = lambda.iter().filter(|&&v| v <= ZERO_TOL * top).count();
-    if zero > 0 {
-        return Err(match props {
-            Some(_) => ImportError::Mechanism(zero + 6),
-            None => ImportError::SingularBlocked {
-                zero,
-                hint: String::new(),
-            },
+        return Err(ImportError::Unresolved {
+            lowest: model.scale.eigenvalue_out(lo),
+            largest: model.scale.eigenvalue_out(top),
         });
     }
     let kept = kept_count(&lambda, cut);
@@ -246,7 +196,37 @@ pub fn elastic(
         dropped: lambda[kept..].to_vec(),
         lambda: lambda[..kept].to_vec(),
         phi,
+        solved_norm: values.iter().fold(0.0f64, |m, v| m.max(v.abs())),
     })
+}
+
+/// `A + sigma U Rb^-1 U^T` with `U = L^T R`: the standard-form matrix `a` with the six
+/// rigid pairs of `props` moved to sigma, above every elastic eigenvalue (`|A|_inf`
+/// bounds them), and the elastic pairs, M-orthogonal to R, untouched. No larger: the
+/// solver's absolute error grows with the shifted matrix's norm (with 2 |A|_F, 13 times
+/// the largest eigenvalue of a 2040-DOF grillage, it was that much larger). Symmetric
+/// (Rb is); only the lower triangle is formed, which is all the solvers read.
+pub fn shifted(
+    a: &DMatrix<f64>,
+    l: &DMatrix<f64>,
+    props: &MassProps,
+) -> Result<DMatrix<f64>, ImportError> {
+    let n = a.nrows();
+    let mut out = a.clone();
+    let sigma = 2.0 * dense::inf_norm(a) + f64::MIN_POSITIVE;
+    let u = l.transpose() * &props.r;
+    let rb_inv = props
+        .rb
+        .clone()
+        .try_inverse()
+        .ok_or_else(|| ImportError::NoModes("the rigid mass R^T M R is singular".into()))?;
+    let w = (&u * rb_inv) * sigma;
+    for j in 0..n {
+        for i in j..n {
+            out[(i, j)] += (0..6).map(|c| w[(i, c)] * u[(j, c)]).sum::<f64>();
+        }
+    }
+    Ok(out)
 }
 
 /// How many of the ascending eigenvalues `lambda` are at or below `cut` (all without).
@@ -281,6 +261,8 @@ pub struct Basis {
     /// `Phi^T K Phi`: a full static block, the eigenvalues (scaled) on the rest of the
     /// diagonal, zero elsewhere.
     pub k_l: DMatrix<f64>,
+    /// [`Elastic::solved_norm`].
+    pub solved_norm: f64,
 }
 
 /// Add static modes for the nodes `node_ids` to the kept modes `el` (see the module
@@ -299,7 +281,11 @@ pub fn local_basis(
     let (statics, k_s) = if el.dropped.is_empty() {
         (DMatrix::zeros(model.a.len(), 0), DMatrix::zeros(0, 0))
     } else {
-        report.dropped_hz = el.dropped.iter().map(|&l| hz(l)).collect();
+        report.dropped_hz = el
+            .dropped
+            .iter()
+            .map(|&l| model.scale.hz_out(hz(l)))
+            .collect();
         static_modes(model, el, l, props, node_ids)?
     };
     let nbstat = statics.ncols();
@@ -332,6 +318,7 @@ pub fn local_basis(
         nbstat,
         m_l,
         k_l,
+        solved_norm: el.solved_norm,
     })
 }
 

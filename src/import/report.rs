@@ -8,6 +8,7 @@ use std::fmt::Write;
 use serde_json::{Value, json};
 
 use super::rigid::MassProps;
+use super::scale::Scale;
 
 /// The import's findings; filled in as the pipeline runs.
 #[derive(Debug, Clone, Default)]
@@ -54,11 +55,12 @@ pub struct Report {
 }
 
 impl Report {
-    /// Record the mass properties.
-    pub fn mass_properties(&mut self, p: &MassProps) {
-        let i = p.inertia;
+    /// Record the mass properties, computed on M scaled by `scale` (back to the
+    /// matrices' units here).
+    pub fn mass_properties(&mut self, p: &MassProps, scale: Scale) {
+        let i = p.inertia.map(|x| scale.mass_out(x));
         self.mass = Some((
-            p.mass,
+            scale.mass_out(p.mass),
             p.com,
             [
                 [i[(0, 0)], i[(0, 1)], i[(0, 2)]],

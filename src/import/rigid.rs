@@ -93,7 +93,7 @@ impl MassProps {
         if mass.is_nan() || mass <= 0.0 {
             return Err(ImportError::NoModes(format!(
                 "the total mass is {} (rigid translation carries no mass)",
-                crate::num::num(mass)
+                crate::num::num(model.scale.mass_out(mass))
             )));
         }
         let c = rb0.view((0, 3), (3, 3));

@@ -73,13 +73,18 @@ pub fn unpack(dir: &Path, body: &str, node: i64, model: Option<&str>) -> (Prepar
         ..PackRequest::default()
     };
     let p = pack(&req, &lib, &fmu).unwrap();
-    for (name, data) in fxbody_host::zip::read(&std::fs::read(&fmu).unwrap()).unwrap() {
+    extract(&fmu, dir);
+    let so = dir.join(format!("binaries/linux64/{}.so", model.unwrap_or(body)));
+    (p, so)
+}
+
+/// Unzip the FMU `fmu` into `dir`.
+pub fn extract(fmu: &Path, dir: &Path) {
+    for (name, data) in fxbody_host::zip::read(&std::fs::read(fmu).unwrap()).unwrap() {
         let path = dir.join(&name);
         std::fs::create_dir_all(path.parent().unwrap()).unwrap();
         std::fs::write(path, data).unwrap();
     }
-    let so = dir.join(format!("binaries/linux64/{}.so", model.unwrap_or(body)));
-    (p, so)
 }
 
 /// Pack the cantilever with its tip node 121 exposed into `dir/tip.fmu` and unpack it

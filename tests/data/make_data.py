@@ -6,13 +6,20 @@ Two families (the hand-written format variants fmt_*.fxb are not generated):
 * labels_*.fxb: every value encodes its own position, so a test can check where each
   value lands in the matrices against the storage orders of FORMULATION.md section 1.
   Not a physical body (only Body::assemble is used on them).
-* body_b{iblo}_r{irot}_d{idamp}.fxb: a physically consistent body of point masses for
-  each flag combination: M_R = Phi_R^T M Phi_R and m_L = diag(Phi_L^T M Phi_L) are
-  computed here from the masses below, K_L is chosen with eigenvalues known in closed
-  form, M_C from its definition; K_C holds plain numbers (no stiffness model behind it).
+* body_b{iblo}_r{irot}_d{idamp}.fxb: a body of point masses for each flag combination,
+  its rigid part built as `fxbody import` builds it (docs/FORMULATION.md section 1): M_R
+  from the exact rigid mass properties (W (x) I3 on the affine modes, d I3 on modes
+  13..15) and M_C,kl(i,j) = (T_lk Phi_R,i)^T M Phi_L,j, the rotation on the rigid mode.
+  For point masses, the same in every direction, these equal Phi_R^T M Phi_R and the
+  rotation on the local mode to round-off, and the load-time invariance check passes.
+  m_L = diag(Phi_L^T M Phi_L) from the masses below, K_L chosen with eigenvalues known
+  in closed form. Not a physical body in two respects, on purpose (format and flag
+  tests): the made-up local modes are neither M-orthogonal nor free of rigid motion,
+  and K_C holds plain numbers (no stiffness model behind it).
   Total mass = sum of MASSES (tests check this against `info`).
 
-Run from the repository root: python3 tests/data/make_data.py
+Run from the repository root: python3 tests/data/make_data.py [OUT_DIR] (default: this
+folder; tests/python/test_data_bodies.py writes elsewhere and compares).
 """
 
 import math
@@ -133,6 +140,42 @@ def rotation(axis, angle):
             [z * x * C - y * d, z * y * C + x * d, c + z * z * C]]
 
 
+def exact_m_r(loc, irot):
+    """M_R (upper triangle, row by row) from the exact rigid mass properties: with the
+    weights (X, Y, Z, 1-X-Y-Z) of the rigid modes, W = [[J, s - J 1], [., m - 2 sum(s) +
+    1^T J 1]] (s, J the first and second moments about L0) and M_R = W (x) I3; with
+    rotations, d I3 on modes 13..15 (d the nodes' rotary inertia per direction) and J
+    from the inertia less d, as fxbody import forms it."""
+    mtot = sum(MASSES)
+    s = [sum(m * x[a] for m, x in zip(MASSES, loc)) for a in range(3)]
+    second = [[sum(m * x[a] * x[b] for m, x in zip(MASSES, loc)) for b in range(3)]
+              for a in range(3)]
+    d = sum(ROT_INERTIA) if irot else 0.0
+    # the inertia about L0, then J = tr(I - d)/2 1 - (I - d): the second moment again
+    tr = sum(second[a][a] for a in range(3))
+    inertia = [[(tr if a == b else 0.0) - second[a][b] + (d if a == b else 0.0)
+                for b in range(3)] for a in range(3)]
+    ip = [[inertia[a][b] - (d if a == b else 0.0) for b in range(3)] for a in range(3)]
+    half = sum(ip[a][a] for a in range(3)) / 2.0
+    j = [[(half if a == b else 0.0) - ip[a][b] for b in range(3)] for a in range(3)]
+    w = [[0.0] * 4 for _ in range(4)]
+    for a in range(3):
+        for b in range(3):
+            w[a][b] = j[a][b]
+        w[a][3] = w[3][a] = s[a] - sum(j[a])
+    w[3][3] = mtot - 2.0 * sum(s) + sum(sum(r) for r in j)
+    nr = 15 if irot else 12
+    full = [[0.0] * nr for _ in range(nr)]
+    for a in range(4):
+        for b in range(4):
+            for c in range(3):
+                full[3 * a + c][3 * b + c] = w[a][b]
+    if irot:
+        for c in range(3):
+            full[12 + c][12 + c] = d
+    return [full[i][q] for i in range(nr) for q in range(i, nr)]
+
+
 def body(iblo, irot, idamp, ns, angle):
     n = len(IDS)
     mtot = sum(MASSES)
@@ -187,7 +230,7 @@ def body(iblo, irot, idamp, ns, angle):
     K = [[sq[r] * A[r][q] * sq[q] for q in range(nl)] for r in range(nl)]
     k_full = [K[r][q] for r in range(ns) for q in range(r, nl)]
     k_diag = [K[r][r] for r in range(ns, nl)]
-    m_r = [mdot(rigid[i], rigid[j]) for i in range(nr) for j in range(i, nr)]
+    m_r = exact_m_r(loc, irot) if nr else []
 
     def t_apply(v, k, l):  # T_kl: component l -> component k, per translation/rotation triplet
         out = [0.0] * len(v)
@@ -199,9 +242,9 @@ def body(iblo, irot, idamp, ns, angle):
     m_c, k_c = [], []
     for m in range(9):
         k, l = divmod(m, 3)
-        # P0 carries the local mode into the global frame inside M_C; the plain T_kl
-        # definition of FORMULATION.md is used as is.
-        m_c.append([mdot(t_apply(local[j], k, l), rigid[i]) for i in range(nr) for j in range(nl)])
+        # The rotation on the rigid mode: M_C,kl(i,j) = (T_lk Phi_R,i)^T M Phi_L,j, so
+        # that the engine's sum_kl P_kl M_C,kl is the turned body's coupling.
+        m_c.append([mdot(t_apply(rigid[i], l, k), local[j]) for i in range(nr) for j in range(nl)])
         k_c.append([0.001 * (m + 1) * (i + 1) - 0.002 * j for i in range(nr) for j in range(nl)])
     freq = math.sqrt(lam[2]) / (2 * math.pi)
     return dict(nbmod=nl, nbstat=ns, irot=irot, idamp=idamp, iblo=iblo, ifile=(iblo ^ irot),
@@ -226,4 +269,8 @@ def main():
 
 
 if __name__ == "__main__":
+    import sys
+
+    if len(sys.argv) > 1:
+        OUT = sys.argv[1]
     main()

@@ -13,6 +13,7 @@ import scipy.linalg as la
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[2] / "fixtures"))
 import fe  # noqa: E402,F401  (also used by the tests as im.fe)
+from modes import fix_sign  # noqa: E402
 
 E, G, RHO = 210e9, 81e9, 7850.0
 SPOINT0 = 900001
@@ -63,12 +64,14 @@ def guyan(k, m, b):
 
 def fixed_interface(k, m, b):
     """The interior rows i (all but b), the fixed-interface modes (omega^2 ascending, mass-
-    normalised shapes over i) and the constraint modes T_c (identity on b, -K_ii^-1 K_ib
-    on i: Guyan's T)."""
+    normalised shapes over i, signed by the fixtures' rule: the first component within
+    1e-6 of the largest is positive, so that another LAPACK kernel, which may return
+    -psi, writes the same matrices) and the constraint modes T_c (identity on b,
+    -K_ii^-1 K_ib on i: Guyan's T)."""
     n = k.shape[0]
     i = np.setdiff1d(np.arange(n), b)
     w2, psi = la.eigh(k[np.ix_(i, i)], m[np.ix_(i, i)])
-    return i, w2, psi, guyan(k, m, b)[2]
+    return i, w2, fix_sign(psi), guyan(k, m, b)[2]
 
 
 def craig_bampton(k, m, b, nmodes, fixed=None):
@@ -175,6 +178,34 @@ def rigid_props(xyz, k_unused, m):
             r[6 * a : 6 * a + 3, 3 + c] = np.cross(e, x)
     rb = r.T @ m @ r
     return mass, com, rb[3:, 3:], rb
+
+
+# An entry below this fraction of its row and column scale sqrt(a_ii a_jj) is round-off
+# of an exact zero (Cauchy-Schwarz bounds a positive semi-definite matrix's entries by it).
+ROUND_OFF = 1e-12
+
+
+def zero_round_off(a):
+    """`a` with the entries below ROUND_OFF sqrt(|a_ii a_jj|) set to exact zeros: the
+    structure of a computed matrix, the same whatever BLAS kernel computed it."""
+    d = np.sqrt(np.abs(np.diag(a)))
+    out = np.array(a, dtype=float)
+    out[np.abs(out) < ROUND_OFF * np.outer(d, d)] = 0.0
+    return out + 0.0
+
+
+def read_punch(path):
+    """The entries of a punch written by write_punch: {name: {((gi, ci), (gj, cj)): value}}
+    (columns by position: GI 9-24, CI 25-40, value 41-56)."""
+    out, name, col = {}, None, None
+    for line in pathlib.Path(path).read_text().splitlines():
+        if line.startswith("DMIG*"):
+            name, col = line[8:24].strip(), (int(line[24:40]), int(line[40:56]))
+        elif line.startswith("DMIG"):
+            out.setdefault(line[8:16].strip(), {})
+        elif line.startswith("*"):
+            out[name][((int(line[8:24]), int(line[24:40])), col)] = float(line[40:56])
+    return out
 
 
 def triangle(dofs, a):

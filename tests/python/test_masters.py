@@ -27,11 +27,13 @@ EXPLICIT, IMPLICIT, EXACT, SPLIT = 1, 2, 3, 4
 # error of the load node's displacement over the whole response, as a fraction of its
 # peak) at the reference's sample step. Blocked: test_fmu.py's bounds at h = 0.2 ms
 # (exact 0.5%: the modal truncation only; explicit 0.5%; implicit 1%, rho_inf 0.9).
-# Free: test_fmu_free.py's 1% for the tip pulse at h = 25 us; split 0.5% (its error against
-# the full FE model is 8.4e-4 of the peak at steps up to 0.4 ms, docs/study_results.md).
+# Free: the tip pulse at h = 25 us, about twice the error measured in every master:
+# explicit and split 8.5e-4 of the peak (the reduction's own error: 10 of the beam's modes
+# kept; tests/all/free/fe_reference.rs measures the same), implicit 6.7e-3 (its period
+# error on the 300-800 Hz modes the pulse excites; bound 1e-2, 1.5 times).
 CASES = {
     "cantilever": {"response": "step", "floors": {EXPLICIT: 5e-3, IMPLICIT: 1e-2, EXACT: 5e-3}},
-    "freefree": {"response": "pulse", "floors": {EXPLICIT: 1e-2, IMPLICIT: 1e-2, SPLIT: 5e-3}},
+    "freefree": {"response": "pulse", "floors": {EXPLICIT: 1.7e-3, IMPLICIT: 1e-2, SPLIT: 1.7e-3}},
 }
 METHOD_RUNS = [(b, m) for b, c in CASES.items() for m in c["floors"]]
 

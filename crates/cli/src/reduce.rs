@@ -29,6 +29,9 @@ pub struct ReduceArgs {
 /// Run `reduce`: write the file and a summary on stdout, or the error message.
 pub fn run(args: &ReduceArgs) -> Result<(), String> {
     let body = fxbody::body::load(&args.file).map_err(|e| e.to_string())?;
+    for w in &body.warnings {
+        eprintln!("warning: {w}");
+    }
     let input_nodes = body.nnodes();
     let nodes = match &args.nodes {
         Some(ids) => node_indices(&body, &ids.0).map_err(|e| format!("--nodes: {e}"))?,

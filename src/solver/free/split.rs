@@ -236,6 +236,12 @@ impl Split {
         Ok(s)
     }
 
+    /// Coordinate velocities (rigid then local) at the current time, as the other free
+    /// methods give them: for momentum balances from the body's own matrices.
+    pub fn velocity_coordinates(&self) -> &DVector<f64> {
+        &self.v
+    }
+
     fn state_len(&self) -> usize {
         1 + 3 + 9 + 3 + 6 + 2 * self.m.nl + self.loads.state_len()
     }

@@ -129,39 +129,46 @@ fn response_error_on(name: &str, method: Method, case: &str, stride: usize) -> (
 }
 
 /// Pulse of 0.1 N for 2 ms at the tip, explicit: tip and mid-node displacements (all
-/// three components, 70 ms) within 1 % of the peak of the full-FE reference.
+/// three components, 70 ms) within 1.7e-3 of the peak of the full-FE reference: twice
+/// the 8.5e-4 measured, which is the reduction's own error (10 of the beam's modes kept:
+/// the split method at 25 us, exact between samples, misses by the same 8.5e-4).
 #[test]
 fn pulse_explicit_matches_fe() {
     let (err, peak) = response_error(Method::Explicit, "pulse", 1);
     println!("explicit pulse: error {err:.3e} of peak {peak:.3e} m");
-    assert!(err < 0.01, "explicit pulse error {err:.3e} of the peak");
+    assert!(err < 1.7e-3, "explicit pulse error {err:.3e} of the peak");
 }
 
-/// Step load of 0.1 N at the tip, explicit: within 1 % of the peak of the FE reference.
+/// Step load of 0.1 N at the tip, explicit: within 1.3e-3 of the peak of the FE
+/// reference (measured 6.3e-4, the reduction's share as above).
 #[test]
 fn step_explicit_matches_fe() {
     let (err, peak) = response_error(Method::Explicit, "step", 1);
     println!("explicit step: error {err:.3e} of peak {peak:.3e} m");
-    assert!(err < 0.01, "explicit step error {err:.3e} of the peak");
+    assert!(err < 1.3e-3, "explicit step error {err:.3e} of the peak");
 }
 
-/// Implicit at the reference sampling (25 us): pulse and step within 1 % of the peak.
+/// Implicit at the reference sampling (25 us): the pulse within 1e-2 of the peak
+/// (measured 6.7e-3: the method's period error on the 300-800 Hz modes the pulse
+/// excites, over 70 ms), the step within 1.3e-3 (measured 6.2e-4, the reduction's
+/// share).
 #[test]
 fn implicit_matches_fe() {
-    for case in ["pulse", "step"] {
+    for (case, tol) in [("pulse", 1e-2), ("step", 1.3e-3)] {
         let (err, peak) = response_error(Method::Implicit, case, 1);
         println!("implicit {case}, h = 25 us: error {err:.3e} of peak {peak:.3e} m");
-        assert!(err < 0.01, "implicit {case} error {err:.3e} of the peak");
+        assert!(err < tol, "implicit {case} error {err:.3e} of the peak");
     }
 }
 
 /// Implicit with 100 us steps (omega_max h = 0.5, 20 steps in the pulse): the pulse
 /// response stays within 3 % of the peak (the 2.6 % measured is the second-order period
 /// error of the 300-800 Hz modes accumulated over 70 ms, about (omega h)^2/12 per
-/// radian), the step response, dominated by the rigid motion, within 1 %.
+/// radian), the step response, dominated by the rigid motion, within 1.2e-3 (measured
+/// 6.0e-4).
 #[test]
 fn implicit_large_step_matches_fe() {
-    for (case, tol) in [("pulse", 0.03), ("step", 0.01)] {
+    for (case, tol) in [("pulse", 0.03), ("step", 1.2e-3)] {
         let (err, peak) = response_error(Method::Implicit, case, 4);
         println!("implicit {case}, h = 100 us: error {err:.3e} of peak {peak:.3e} m");
         assert!(err < tol, "implicit {case} error {err:.3e} of the peak");
@@ -169,38 +176,44 @@ fn implicit_large_step_matches_fe() {
 }
 
 /// The truss tower (Irot = 0, local modes from a 3-2-1 support, so not orthogonal to
-/// the rigid modes: strong M_C and K_C coupling): pulse and step at the tip against the
-/// FE reference within 1 % of the peak, both methods.
+/// the rigid modes: strong M_C and K_C coupling; complete modal basis, so no reduction
+/// error): pulse and step at the tip against the FE reference, within about twice what
+/// was measured: explicit 1.1e-4 and 3.1e-5 of the peak, implicit (its period error on
+/// the kilohertz modes of the pulse) 1.2e-3 and 3.1e-5.
 #[test]
 fn truss_matches_fe() {
-    for method in [Method::Explicit, Method::Implicit] {
-        for case in ["pulse", "step"] {
+    for (method, tols) in [
+        (Method::Explicit, [2.2e-4, 6.5e-5]),
+        (Method::Implicit, [2.4e-3, 6.5e-5]),
+    ] {
+        for (case, tol) in ["pulse", "step"].into_iter().zip(tols) {
             let (err, peak) = response_error_on("truss", method, case, 1);
             println!("truss {method:?} {case}: error {err:.3e} of peak {peak:.3e} m");
             assert!(
-                err < 0.01,
+                err < tol,
                 "truss {method:?} {case}: error {err:.3e} of the peak"
             );
         }
     }
 }
 
-/// The pulse on the fixtures: the momentum change equals the impulse to 1e-7 relative at
-/// the end of the pulse; afterwards within 1e-7 (freefree) and 1e-5 (truss, whose local
-/// modes come from a 3-2-1 support and are far from orthogonal to the translations).
+/// The pulse on the fixtures: the momentum change equals the impulse.
 ///
-/// Not 1e-9 as on a lumped-mass body (free/explicit.rs, exact to round-off): this
-/// file comes from a consistent beam mass, whose uniform translation also loads the end
-/// rotations, so `s^T M_C` is not zero (1.6e-4 here), and the formulation leaves out the
-/// `d(M_C)/dt v_L` term (FORMULATION.md section 3). The momentum `s^T (M_R v_R + M_C v_L)`
-/// then differs from the impulse by `sum s^T dM_C v_L`: measured 6e-9 at the end of the
-/// pulse, oscillating up to 3e-8 afterwards without growth (truss: 4e-8, then 2e-6).
+/// The free-free beam, exact to round-off (measured 5.9e-16 at the end of the pulse,
+/// 3.1e-15 over the 2000 steps after; bound 1e-13): with the rotation on the rigid mode,
+/// `s^T M_C(P) = (uniform translation)^T M Phi_L` at every attitude, zero for free-free
+/// modes, so the formulation's missing `d(M_C)/dt v_L` term does not reach the momentum.
+/// (Written the naive way, the beam's `s^T M_C` was 1.6e-4 and the momentum missed the
+/// impulse by up to 3e-8.) The truss: 3.9e-8 at the end of the pulse, oscillating up to
+/// 2.1e-6 afterwards without growth (bounds 1e-7 and 5e-6): its local modes come from a
+/// 3-2-1 support and are far from orthogonal to the translations, so `s^T M_C != 0` and
+/// the momentum `s^T (M_R v_R + M_C v_L)` differs from the impulse by `sum s^T dM_C v_L`.
 #[test]
 fn pulse_momentum_equals_impulse_on_fixture() {
-    for (name, tol_after) in [("freefree", 1e-7), ("truss", 1e-5)] {
+    for (name, tol_end, tol_after) in [("freefree", 1e-13, 1e-13), ("truss", 1e-7, 5e-6)] {
         let (at_end, after) = fixture_impulse(name);
         assert!(
-            at_end < 1e-7,
+            at_end < tol_end,
             "{name}: momentum change vs impulse: {at_end:.2e}"
         );
         assert!(
@@ -248,7 +261,7 @@ fn fixture_impulse(name: &str) -> (f64, f64) {
 /// A long swing of the free-free beam under a constant global force at its tip (it turns
 /// into the force and swings like a pendulum), implicit at 20 x 0.9 dt_fx for 18 s: every
 /// step converges, the frame stays orthonormal to 1e-9, and the work-energy balance
-/// `KE + SE = F . (x_tip - x_tip0)` holds within 1e-5 of the work done (measured 5e-7).
+/// `KE + SE = F . (x_tip - x_tip0)` holds within 1e-6 of the work done (measured 4.9e-7).
 #[test]
 fn implicit_long_swing_energy_balance() {
     let fx = named("freefree");
@@ -280,7 +293,7 @@ fn implicit_long_swing_energy_balance() {
     );
     assert!(frame < 1e-9, "frame {frame:.2e}");
     assert!(
-        worst < 1e-5 * wmax,
+        worst < 1e-6 * wmax,
         "energy balance {:.2e} of the work",
         worst / wmax
     );
@@ -291,8 +304,8 @@ fn implicit_long_swing_energy_balance() {
 /// its sampling, against the FE reference: free-free pulse within 1.2e-3 and step
 /// within 8e-4 of the peak at every step (the reduction's own error, the explicit method
 /// at 25 us: 8.5e-4 and 6.3e-4; measured 8.4e-4 and 6.2e-4 at all three steps), truss
-/// (complete modal basis, so no reduction error) within 1e-4 (measured 5.5e-5 on the
-/// pulse; explicit 1.1e-4 and 3.1e-5, implicit 1.2e-3 and 3.1e-5).
+/// (complete modal basis, so no reduction error) within 1.1e-4 (pulse) and 3.5e-5
+/// (step): measured 5.5e-5 and 1.7e-5.
 #[test]
 fn split_matches_fe_at_large_steps() {
     for stride in [1, 4, 16] {
@@ -306,9 +319,7 @@ fn split_matches_fe_at_large_steps() {
     for case in ["pulse", "step"] {
         let (err, peak) = response_error_on("truss", Method::Split, case, 1);
         println!("truss split {case}: error {err:.3e} of peak {peak:.3e} m");
-        assert!(
-            err < 1e-4,
-            "truss split {case}: error {err:.3e} of the peak"
-        );
+        let tol = if case == "pulse" { 1.1e-4 } else { 3.5e-5 };
+        assert!(err < tol, "truss split {case}: error {err:.3e} of the peak");
     }
 }

@@ -6,6 +6,7 @@ mod fe_reference;
 mod implicit;
 mod radioss_differences;
 mod rotations;
+mod spin;
 mod split;
 mod stable_step;
 mod validity;
