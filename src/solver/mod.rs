@@ -226,6 +226,14 @@ pub trait Solver: Send {
     fn kinetic_energy(&self) -> f64;
     /// The moving frame, for free bodies; `None` for blocked ones.
     fn frame(&self) -> Option<Frame>;
+    /// Linear momentum of a free body (global components): `s_c^T M v` with `M` the
+    /// mass matrix of section 3 for the current frame, `v` the coordinate velocities
+    /// and `s_c` the uniform translation of the frame points along axis `c`. Its change
+    /// over a step is the impulse of the applied forces (and of gravity), whatever the
+    /// body does inside; `None` for blocked bodies, which have no momentum of their own.
+    fn momentum(&self) -> Option<[f64; 3]> {
+        None
+    }
     /// Save the complete state.
     fn state(&self) -> State;
     /// Restore a state saved by a solver built from the same scene and method.

@@ -474,6 +474,10 @@ impl Solver for Explicit {
         self.with_velocity(|v| self.m.kinetic_energy(v, &self.p))
     }
 
+    fn momentum(&self) -> Option<[f64; 3]> {
+        Some(self.with_velocity(|v| self.m.momentum(v, &self.p)))
+    }
+
     fn set_state(&mut self, state: &State) -> Result<(), SolverError> {
         check_state(state, Method::Explicit, self.state_len())?;
         let nq = self.m.nq();

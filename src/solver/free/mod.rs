@@ -100,6 +100,10 @@ macro_rules! free_solver_sampled_velocity {
         fn kinetic_energy(&self) -> f64 {
             self.m.kinetic_energy(&self.v, &self.p)
         }
+
+        fn momentum(&self) -> Option<[f64; 3]> {
+            Some(self.m.momentum(&self.v, &self.p))
+        }
     };
 }
 
@@ -526,6 +530,34 @@ impl Model {
             * (0..self.nl)
                 .map(|j| self.m_l[j] * vl[j] * vl[j])
                 .sum::<f64>()
+    }
+
+    /// Linear momentum `s_c^T (M_R v_R + M_C(P) v_L)` for the three global axes c
+    /// ([`crate::solver::Solver::momentum`]); `s_c` moves the four frame points by
+    /// `e_c` and the rotational DOFs and modes not at all.
+    pub fn momentum(&self, v: &DVector<f64>, p: &Matrix3<f64>) -> [f64; 3] {
+        let (nr, nl) = (self.nr, self.nl);
+        let vr = &v.as_slice()[..nr];
+        let vl = &v.as_slice()[nr..nr + nl];
+        let mut out = [0.0; 3];
+        for (c, o) in out.iter_mut().enumerate() {
+            let rows = [c, 3 + c, 6 + c, 9 + c];
+            let mut s = 0.0;
+            for &i in &rows {
+                s += (0..nr).map(|k| self.m_r[(i, k)] * vr[k]).sum::<f64>();
+                for k in 0..3 {
+                    for l in 0..3 {
+                        let pkl = p[(k, l)];
+                        if pkl != 0.0 {
+                            let mc = &self.m_c_kl[3 * k + l];
+                            s += pkl * (0..nl).map(|j| mc[(i, j)] * vl[j]).sum::<f64>();
+                        }
+                    }
+                }
+            }
+            *o = s;
+        }
+        out
     }
 
     /// Node vector field `sum_{i<12} r_i Phi_R,i(n)_trans + P sum_j l_j Phi_L,j(n)_trans`

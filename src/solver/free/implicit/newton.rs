@@ -229,7 +229,11 @@ impl Implicit {
         let m = &self.m;
         let w = &mut self.w;
         let (nr, nl, nq, nc) = (m.nr, m.nl, m.nq(), m.nc());
-        if refresh && w.lkey != (bt, gt) {
+        // The mass matrix alone (initial accelerations, the jump of a held load): its
+        // local block is diag(m_L), eliminated by division, and the factorisation kept
+        // for the step size is left alone.
+        let mass_only = bt == 0.0 && gt == 0.0;
+        if refresh && !mass_only && w.lkey != (bt, gt) {
             // Invalidate first: a factorisation that fails below must not be taken for
             // the matrix of the old key by a later call.
             w.lkey = super::super::NO_KEY;
@@ -266,7 +270,14 @@ impl Implicit {
             }
             w.lkey = (bt, gt);
         }
-        if refresh {
+        if refresh && mass_only {
+            // Y = diag(m_L)^-1 M_C^T for the current M_C.
+            for i in 0..nr {
+                for j in 0..nl {
+                    w.y[(j, i)] = w.mc[(i, j)] / m.m_l[j];
+                }
+            }
+        } else if refresh {
             // Y = L^-1 M_C^T with M_C = sum P_kl M_C,kl.
             w.y.fill(0.0);
             for k in 0..3 {
@@ -281,6 +292,8 @@ impl Implicit {
                     }
                 }
             }
+        }
+        if refresh {
             // A_RL = M_C + bt K_C, row-major.
             for i in 0..nr {
                 for j in 0..nl {
@@ -306,7 +319,13 @@ impl Implicit {
         }
         // z = L^-1 r_L.
         w.z.copy_from_slice(&w.res[nr..nq]);
-        w.lfac.solve(&mut w.z);
+        if mass_only {
+            for (z, &mj) in w.z.iter_mut().zip(m.m_l.iter()) {
+                *z /= mj;
+            }
+        } else {
+            w.lfac.solve(&mut w.z);
+        }
         // Reduced system: (A_RR - A_RL Y) dx_R - A^T dl = r_R - A_RL z.
         for i in 0..nr {
             let mut r = w.res[i];
