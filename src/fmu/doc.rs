@@ -4,7 +4,7 @@
 use std::fmt::Write;
 
 use super::options::SceneOptions;
-use super::vars::{Causality, VarTable, method_name};
+use super::vars::{Causality, VarTable, default_method, method_name};
 use super::xml::{feeds_through, modes_summary};
 use crate::scene::Scene;
 
@@ -53,7 +53,7 @@ pub fn index_html(scene: &Scene, table: &VarTable, opts: &SceneOptions, guid: &s
             .map(|&m| method_name(m))
             .collect::<Vec<_>>()
             .join(", "),
-        method_name(table.default_method),
+        default_text(table),
         opts.units
             .map_or("none declared (the file's own consistent system)", |u| u
                 .name()),
@@ -95,6 +95,21 @@ pub fn index_html(scene: &Scene, table: &VarTable, opts: &SceneOptions, guid: &s
     dependencies(&mut h, scene, table);
     h.push_str("</body></html>\n");
     h
+}
+
+/// The default method and why: the body's default with its reason, or the method
+/// `pack --method` chose.
+fn default_text(table: &VarTable) -> String {
+    let (body_default, why) = default_method(table.free);
+    if table.default_method == body_default {
+        esc(&format!("{} ({why})", method_name(body_default)))
+    } else {
+        esc(&format!(
+            "{} (chosen by pack --method; this body's own default is {}: {why})",
+            method_name(table.default_method),
+            method_name(body_default)
+        ))
+    }
 }
 
 /// The outputs that depend on same-instant inputs, from the function the model
