@@ -88,7 +88,7 @@ pub struct Implicit {
     omega: Vec<f64>,
     /// `omega^2` per mode.
     w2: Vec<f64>,
-    /// Modal damping `alpha + beta omega^2 (+ 2 zeta omega)`, at most `f64::MAX`.
+    /// Modal damping `alpha + beta omega^2 (+ 2 zeta omega)` ([`LocalDamping::modal`]).
     damp: Vec<f64>,
     /// The modes advanced exactly (they do not oscillate: `d >= 2 omega`, `d > 0`).
     exact: Vec<usize>,
@@ -132,12 +132,7 @@ impl Implicit {
         let io = Exposed::new(scene, &basis)?;
         let damping = LocalDamping::new(body, opts.damping_ratio)?;
         let w2: Vec<f64> = omega.iter().map(|&w| w * w).collect();
-        // An added ratio near f64::MAX overflows 2 zeta omega: such a mode does not move
-        // (its exact transition is the limit), and MAX keeps every product finite.
-        let damp: Vec<f64> = omega
-            .iter()
-            .map(|&w| damping.modal(w).min(f64::MAX))
-            .collect();
+        let damp: Vec<f64> = omega.iter().map(|&w| damping.modal(w)).collect();
         let exact = (0..nl)
             .filter(|&j| damp[j] > 0.0 && damp[j] >= 2.0 * omega[j])
             .collect::<Vec<_>>();

@@ -180,6 +180,7 @@ impl Explicit {
                 .explicit_stable_step_at(&scene.body, coupled);
             s.m.dt_fx = s.dt_fx;
         }
+        crate::solver::damping::check_explicit_step(s.dt_fx, opts.damping_ratio)?;
         s.evaluate_outputs()?;
         s.backup.data.reserve(s.state_len());
         Ok(s)

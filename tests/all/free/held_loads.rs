@@ -5,7 +5,7 @@
 //! whatever the body does inside (tumbles, deforms).
 
 use fxbody::body::mass_props::mass_properties;
-use fxbody::solver::{Method, Options, Solver, build};
+use fxbody::solver::{Method, Options, build};
 use nalgebra::Vector3;
 
 use crate::common::blocked::Lcg;
@@ -128,5 +128,29 @@ fn each_step_delivers_its_impulse() {
                 assert!(rel < 1e-10, "{method:?}: {rel:.2e}");
             }
         }
+    }
+}
+
+#[test]
+fn scratch_time_h1() {
+    let scene = fixture_scene("freefree", &[521]);
+    let mut s = build(
+        &scene,
+        Method::Implicit,
+        &Options {
+            damping_ratio: 1e-300,
+            ..Options::default()
+        },
+    )
+    .unwrap();
+    s.set_loads(&[0.0, 1.0, 0.0, 0.0, 0.0, 0.0]).unwrap();
+    for k in 0..5 {
+        let c = std::time::Instant::now();
+        let r = s.step(1.0);
+        println!(
+            "SCRATCH step {k}: {:?} in {:.3} s",
+            r.as_ref().err().map(|e| e.to_string()),
+            c.elapsed().as_secs_f64()
+        );
     }
 }

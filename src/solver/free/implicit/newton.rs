@@ -11,7 +11,8 @@ use super::super::{
 use super::{Implicit, Params, fill_mass};
 use crate::solver::SolverError;
 
-/// Newton tolerance on the frame constraints `|d|^2 - c` (dimensionless).
+/// Newton tolerance on the frame constraints `|d|^2 - c` (dimensionless), per unit of the
+/// largest frame-point displacement when that exceeds 1.
 const TOL_CONSTRAINT: f64 = 1e-13;
 /// Newton tolerance on the relative acceleration update.
 const TOL_ACC: f64 = 1e-11;
@@ -178,9 +179,12 @@ impl Implicit {
             // Converged when the update is negligible (relative to the accelerations, or
             // as a position change: near round-off of the coordinates, whatever the
             // conditioning of the body) and the frame constraints hold.
+            // The frame's edges are differences of frame-point coordinates: far from the
+            // start (|q| of 1e3 and more) they carry |q| eps of round-off, which the
+            // constraint tolerance must allow.
             let qscale = self.q.amax().max(1.0);
             let small = dmax <= TOL_ACC * xmax || dmax * bt <= TOL_POS * qscale;
-            if small && cmax <= TOL_CONSTRAINT {
+            if small && cmax <= TOL_CONSTRAINT * qscale {
                 converged = true;
                 break;
             }
