@@ -11,7 +11,7 @@ pub mod mass_props;
 mod modal;
 pub mod placement;
 
-pub use checks::{BodyError, MAX_LOCAL_MODES};
+pub use checks::{BodyError, FREQ_RATIO, MAX_LOCAL_MODES, Places, check_scene_body};
 pub use load::{LoadError, load, load_reporting, load_with_bytes, load_with_bytes_reporting};
 pub use modal::Modal;
 

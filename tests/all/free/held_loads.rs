@@ -130,27 +130,3 @@ fn each_step_delivers_its_impulse() {
         }
     }
 }
-
-#[test]
-fn scratch_time_h1() {
-    let scene = fixture_scene("freefree", &[521]);
-    let mut s = build(
-        &scene,
-        Method::Implicit,
-        &Options {
-            damping_ratio: 1e-300,
-            ..Options::default()
-        },
-    )
-    .unwrap();
-    s.set_loads(&[0.0, 1.0, 0.0, 0.0, 0.0, 0.0]).unwrap();
-    for k in 0..5 {
-        let c = std::time::Instant::now();
-        let r = s.step(1.0);
-        println!(
-            "SCRATCH step {k}: {:?} in {:.3} s",
-            r.as_ref().err().map(|e| e.to_string()),
-            c.elapsed().as_secs_f64()
-        );
-    }
-}
