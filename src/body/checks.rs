@@ -104,7 +104,8 @@ pub enum BodyError {
     /// take (the explicit step would be that many times shorter than the file says, and
     /// the other methods overflow).
     #[error(
-        "{name}: {place}: mode {mode} has m_L({mode}) = {m_l} and K_L({mode},{mode}) = {k_l}, its own frequency sqrt(K_L / m_L) / (2 pi) is {mode_hz} Hz, and the largest computed eigenfrequency of (K_L, m_L) is {computed} Hz, {ratio} times the stored Freq = {stored} Hz (more than {limit}): the file is corrupt; check m_L and K_L of mode {mode}"
+        "{name}: {place}: mode {mode} has m_L({mode}) = {} and K_L({mode},{mode}) = {}, its own frequency sqrt(K_L / m_L) / (2 pi) is {} Hz, and the largest computed eigenfrequency of (K_L, m_L) is {} Hz, {} times the stored Freq = {} Hz (more than {}): the file is corrupt; check m_L and K_L of mode {mode}",
+        figures[0], figures[1], figures[2], figures[3], figures[5], figures[4], figures[6]
     )]
     FrequencyAboveFreq {
         /// Source file.
@@ -113,20 +114,9 @@ pub enum BodyError {
         place: &'static str,
         /// 1-based mode with the largest `K_L(j,j) / m_L(j)`.
         mode: usize,
-        /// Its m_L, in compact form.
-        m_l: String,
-        /// Its diagonal K_L, in compact form.
-        k_l: String,
-        /// Its own frequency, Hz, in compact form.
-        mode_hz: String,
-        /// The largest computed eigenfrequency, Hz, in compact form.
-        computed: String,
-        /// The stored Freq, Hz, in compact form.
-        stored: String,
-        /// computed / stored, in compact form.
-        ratio: String,
-        /// [`FREQ_RATIO`], in compact form.
-        limit: String,
+        /// Its m_L and K_L, its own frequency and the largest computed one, the stored
+        /// Freq, their ratio and [`FREQ_RATIO`], in compact form.
+        figures: Box<[String; 7]>,
     },
     /// A local mass that is not positive.
     #[error("{name}: {place}: every m_L must be > 0, found m_L({mode}) = {value}")]

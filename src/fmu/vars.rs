@@ -311,7 +311,9 @@ impl VarTable {
                 continue;
             }
             let rot_desc = if free {
-                "frame rotation then local small rotation"
+                "frame rotation then local small rotation; angle at most pi, so the vector \
+                 jumps from about pi n to about -pi n each time the rotation passes pi (a \
+                 steady spin: once a turn); integrate wx, wy, wz for a continuous angle"
             } else {
                 "small rotation of the modes' rotation rows"
             };

@@ -234,13 +234,15 @@ fn check_freq(b: &Body, places: &Places, name: &str) -> Result<(), BodyError> {
         name: name.into(),
         place: places.mass_stiffness,
         mode: j + 1,
-        m_l: num(b.m_l[j]),
-        k_l: num(b.k_l[(j, j)]),
-        mode_hz: num(q.sqrt() / (2.0 * std::f64::consts::PI)),
-        computed: num(computed),
-        stored: num(b.freq_file),
-        ratio: num(computed / b.freq_file),
-        limit: num(FREQ_RATIO),
+        figures: Box::new([
+            num(b.m_l[j]),
+            num(b.k_l[(j, j)]),
+            num(q.sqrt() / (2.0 * std::f64::consts::PI)),
+            num(computed),
+            num(b.freq_file),
+            num(computed / b.freq_file),
+            num(FREQ_RATIO),
+        ]),
     })
 }
 
@@ -317,7 +319,7 @@ pub(super) fn check_modal_solution(b: &Body, places: &Places, name: &str) -> Res
         let u = s * &z;
         let back = s.tr_mul(&u.component_mul(m)) - &z;
         let r1 = back.amax() / z_max;
-        if !(r1 <= MODES_TOL) {
+        if r1.is_nan() || r1 > MODES_TOL {
             return Err(bad("S^T diag(m_L) S - I", r1));
         }
         let y = s.tr_mul(&(&b.k_l * &u)) - z.component_mul(lam);
@@ -326,12 +328,14 @@ pub(super) fn check_modal_solution(b: &Body, places: &Places, name: &str) -> Res
         } else {
             y.amax()
         };
-        if !(r2 <= MODES_TOL) {
+        if r2.is_nan() || r2 > MODES_TOL {
             return Err(bad("S^T K_L S - Lambda", r2));
         }
     }
     let order = &b.modal.ascending;
-    if let Some(k) = (1..nl).find(|&k| !(lam[order[k - 1]] <= lam[order[k]])) {
+    if let Some(k) =
+        (1..nl).find(|&k| lam[order[k - 1]].is_nan() || lam[order[k - 1]] > lam[order[k]])
+    {
         return Err(bad(
             "the mode order (eigenvalues out of ascending order at position)",
             k as f64,
@@ -369,7 +373,8 @@ fn check_rigid_modes(b: &Body, places: &Places, name: &str) -> Result<(), BodyEr
                 } else {
                     0.0
                 };
-                if !((v - expected).abs() <= tol) {
+                let off = (v - expected).abs();
+                if off.is_nan() || off > tol {
                     return Err(BodyError::RigidModesNotAffine {
                         name: name.into(),
                         place: places.rigid_modes,
@@ -389,7 +394,7 @@ fn check_rigid_modes(b: &Body, places: &Places, name: &str) -> Result<(), BodyEr
 /// P0 orthonormal within 1e-6 and not a reflection.
 fn check_frame(p: &Matrix3<f64>, places: &Places, name: &str) -> Result<(), BodyError> {
     let dev = (p.transpose() * p - Matrix3::identity()).amax();
-    if !(dev <= 1e-6) {
+    if dev.is_nan() || dev > 1e-6 {
         return Err(BodyError::FrameNotRotation {
             name: name.into(),
             place: places.frame,

@@ -76,7 +76,7 @@ pub(super) fn check_scene(scene: &Scene, file: &str) -> Result<(), SceneFileErro
 fn check_residual(r: &DMatrix<f64>, scene: &Scene) -> Result<(), String> {
     let big = r.amax();
     let asym = (r - r.transpose()).amax();
-    if !(asym <= RESIDUAL_SYMMETRY * big) {
+    if asym.is_nan() || asym > RESIDUAL_SYMMETRY * big {
         return Err(format!(
             "the residual flexibility is not symmetric: max |R - R^T| = {} against max |R| = {}",
             num(asym),

@@ -200,7 +200,13 @@ fn explicit_steps_over_the_budget_are_refused_at_once() {
 /// gravity, v0 and w0 up to f64::MAX), every method, on the blocked cantilever and the
 /// free-free beam, under a 1 N tip load, steps of 1 ms and of 1 s: every step the model
 /// accepts leaves every output finite, and every refusal (at the build or at a step)
-/// that advises a number advises a usable one (finite, positive, a normal f64).
+/// that advises a number advises a usable one (finite, positive, a normal f64) and
+/// prints no NaN. Measured: 732 steps accepted, 178 refusals. Before issue 28 it failed
+/// at once: the explicit method under damping.ratio 1e8 advised "use steps of at most
+/// 0 s" (the stable step's cancellation), and further on an output call never returned
+/// (nalgebra's nearest-rotation search on a NaN frame), free implicit starts whose
+/// accelerations overflowed could not be put back after a refused step, and singular
+/// systems printed "pivot ratio NaN".
 #[test]
 fn extreme_parameters_give_finite_outputs_or_a_usable_refusal() {
     use fxbody::fmu::model::{Model, Phase};
