@@ -145,6 +145,16 @@ const AXES: [&str; 3] = ["x", "y", "z"];
 const LOADS: [&str; 6] = ["fx", "fy", "fz", "mx", "my", "mz"];
 
 impl VarTable {
+    /// The value references of every output, in description order (what a master reads
+    /// after each step).
+    pub fn output_refs(&self) -> Vec<u32> {
+        self.vars
+            .iter()
+            .filter(|v| v.causality == Causality::Output)
+            .map(|v| v.vr)
+            .collect()
+    }
+
     /// The table for a scene. Exposed node `k` has ID `body.node_ids[scene.nodes[k]]`;
     /// moment inputs exist only for nodes with rotational DOFs.
     pub fn new(scene: &Scene) -> VarTable {

@@ -252,21 +252,25 @@ fn check_freq(b: &Body, places: &Places, name: &str) -> Result<(), BodyError> {
 /// and the frequencies would read as 0 Hz or NaN.
 fn check_mass_scale(b: &Body, places: &Places, name: &str) -> Result<(), BodyError> {
     let two_pi = 2.0 * std::f64::consts::PI;
+    let too_small = |j: usize, why: String| BodyError::MassTooSmall {
+        name: name.into(),
+        place: places.mass,
+        mode: j + 1,
+        value: num(b.m_l[j]),
+        why,
+    };
     for j in 0..b.nl() {
         let q = b.k_l[(j, j)] / b.m_l[j];
         if !q.is_finite() {
-            return Err(BodyError::MassTooSmall {
-                name: name.into(),
-                place: places.mass,
-                mode: j + 1,
-                value: num(b.m_l[j]),
-                why: format!(
+            return Err(too_small(
+                j,
+                format!(
                     "K_L({0},{0}) / m_L({0}) = {1} / {2} is not finite",
                     j + 1,
                     num(b.k_l[(j, j)]),
                     num(b.m_l[j])
                 ),
-            });
+            ));
         }
     }
     let Some((j, q)) = stiffest_mode(b) else {
@@ -274,19 +278,16 @@ fn check_mass_scale(b: &Body, places: &Places, name: &str) -> Result<(), BodyErr
     };
     let w2 = (two_pi * b.freq_max_hz()).powi(2);
     if q > 0.0 && (w2.is_nan() || w2 < q * (1.0 - 1e-6)) {
-        return Err(BodyError::MassTooSmall {
-            name: name.into(),
-            place: places.mass,
-            mode: j + 1,
-            value: num(b.m_l[j]),
-            why: format!(
+        return Err(too_small(
+            j,
+            format!(
                 "the largest computed eigenfrequency {f} Hz is below the lower bound sqrt(K_L({j},{j}) / m_L({j}))/(2 pi) = {lb} Hz: \
                  the masses span too many orders of magnitude for the eigen analysis",
                 f = num(b.freq_max_hz()),
                 lb = num(q.sqrt() / two_pi),
                 j = j + 1
             ),
-        });
+        ));
     }
     Ok(())
 }

@@ -2,17 +2,10 @@
 //! checks every step.
 
 use crate::fmu::model::{Model, Phase};
-use crate::fmu::vars::Causality;
 
 /// Every Real output of `m`, read through the model as a master reads them.
 fn outputs(m: &mut Model) -> Vec<f64> {
-    let outs: Vec<u32> = m
-        .table
-        .vars
-        .iter()
-        .filter(|v| v.causality == Causality::Output)
-        .map(|v| v.vr)
-        .collect();
+    let outs = m.table.output_refs();
     let mut vals = vec![0.0; outs.len()];
     m.get_reals(&outs, &mut vals).unwrap();
     vals

@@ -210,7 +210,6 @@ fn explicit_steps_over_the_budget_are_refused_at_once() {
 #[test]
 fn extreme_parameters_give_finite_outputs_or_a_usable_refusal() {
     use fxbody::fmu::model::{Model, Phase};
-    use fxbody::fmu::vars::Causality;
 
     use crate::common::fixture_scene;
 
@@ -249,13 +248,7 @@ fn extreme_parameters_give_finite_outputs_or_a_usable_refusal() {
                     m.set_real(pvr, value, Phase::Configuring).unwrap();
                     m.setup(0.0, None).unwrap();
                     m.set_real(fy, 1.0, Phase::Configuring).unwrap();
-                    let outs: Vec<u32> = m
-                        .table
-                        .vars
-                        .iter()
-                        .filter(|v| v.causality == Causality::Output)
-                        .map(|v| v.vr)
-                        .collect();
+                    let outs = m.table.output_refs();
                     let mut out = vec![0.0; outs.len()];
                     for k in 0..5 {
                         match m.do_step(k as f64 * h, h) {

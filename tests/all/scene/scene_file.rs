@@ -149,6 +149,18 @@ fn resources_run_bit_for_bit_as_the_fxb_on_every_fixture_and_method() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// The log of an fmi2Instantiate of `fx` that must fail (`what` names the case).
+fn refused_log(fx: &crate::common::fmu::Packed, what: &str) -> String {
+    match Slave::try_new(fx, "damaged") {
+        Ok(_) => panic!("{what}: instantiated"),
+        Err(m) => m
+            .iter()
+            .map(|m| m.text.as_str())
+            .collect::<Vec<_>>()
+            .join("\n"),
+    }
+}
+
 /// A file of the cantilever scene and how each damage to it is refused at
 /// fmi2Instantiate: the logged error names the file and the cause.
 #[test]
@@ -259,15 +271,7 @@ fn every_damaged_scene_file_is_refused_at_instantiation_with_its_reason() {
     ];
     for (what, bytes, want) in damage {
         std::fs::write(&path, &bytes).unwrap();
-        let msgs = match Slave::try_new(&fx, "damaged") {
-            Ok(_) => panic!("{what}: instantiated"),
-            Err(m) => m,
-        };
-        let text = msgs
-            .iter()
-            .map(|m| m.text.as_str())
-            .collect::<Vec<_>>()
-            .join("\n");
+        let text = refused_log(&fx, what);
         println!("{what}: {text}");
         assert!(
             text.starts_with("fmi2Instantiate: ")
@@ -578,15 +582,7 @@ fn a_scene_file_is_checked_like_a_body_at_instantiation() {
     let path = fx.dir.join("resources").join(SCENE_FILE);
     let good = std::fs::read(&path).unwrap();
     refusal_of(&fx.dir, &good, |_, b| b.m_l[0] = 5e-324).unwrap();
-    let msgs = match Slave::try_new(&fx, "physics") {
-        Ok(_) => panic!("instantiated with m_L = 5e-324"),
-        Err(m) => m,
-    };
-    let text = msgs
-        .iter()
-        .map(|m| m.text.as_str())
-        .collect::<Vec<_>>()
-        .join("\n");
+    let text = refused_log(&fx, "m_L = 5e-324");
     assert!(
         text.starts_with("fmi2Instantiate: ")
             && text.contains("section MASS")
