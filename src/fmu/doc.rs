@@ -138,3 +138,47 @@ fn dependencies(h: &mut String, scene: &Scene, table: &VarTable) {
     }
     h.push_str("</table>\n");
 }
+
+#[cfg(test)]
+mod tests {
+    use super::index_html;
+    use crate::fmu::options::SceneOptions;
+    use crate::fmu::vars::VarTable;
+    use crate::solver::Method;
+
+    /// The page says which method runs unless chosen, and why: exact for a blocked body,
+    /// split for a free one (issue 28), and the method `pack --method` chose beside the
+    /// body's own default.
+    #[test]
+    fn the_page_names_the_default_method_and_why() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let blocked = crate::fmu::scene_io::cantilever_tip_scene();
+        let body = crate::body::load(&root.join("fixtures/freefree.fxb")).unwrap();
+        let x = body.rigid_mode_positions().unwrap();
+        let free = crate::scene::Scene::new(std::sync::Arc::new(body), vec![20], vec![x[20]]);
+        let opts = SceneOptions {
+            name: "t".into(),
+            ..SceneOptions::default()
+        };
+        let page = |s: &crate::scene::Scene, t: &VarTable| index_html(s, t, &opts, "{g}");
+        let b = page(&blocked, &VarTable::new(&blocked));
+        assert!(
+            b.contains("default exact (no time-discretisation error"),
+            "{b}"
+        );
+        let f = page(&free, &VarTable::new(&free));
+        assert!(
+            f.contains("default split (local modes exact between samples")
+                && f.contains("each step's impulse exact"),
+            "{f}"
+        );
+        let chosen = VarTable::new(&free).with_default_method(Some(Method::Implicit));
+        let c = page(&free, &chosen);
+        assert!(
+            c.contains(
+                "default implicit (chosen by pack --method; this body's own default is split"
+            ),
+            "{c}"
+        );
+    }
+}
