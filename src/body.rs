@@ -12,7 +12,7 @@ pub mod mass_props;
 mod modal;
 pub mod placement;
 
-pub use checks::{BodyError, MAX_LOCAL_MODES};
+pub use checks::{BodyError, FREQ_RATIO, MAX_LOCAL_MODES, Places, check_scene_body};
 pub use load::{LoadError, load, load_reporting, load_with_bytes, load_with_bytes_reporting};
 pub use modal::Modal;
 
@@ -289,17 +289,33 @@ pub fn eigenfrequencies_hz(k: &DMatrix<f64>, m: &DVector<f64>) -> Vec<f64> {
 
 /// Stable step of the explicit central-difference scheme for a largest frequency
 /// `freq_hz` (FORMULATION.md section 4): `2/omega` undamped, and with stiffness damping
-/// `beta > 0` the smaller of `(sqrt(beta^2 omega^2 + 4) - beta omega)/omega` and
-/// `2/(beta omega^2)`. Infinite for a body with no stiffness.
+/// `beta > 0` (lagged, so it shortens the step) [`damped_stable_step`] of
+/// `kappa = beta omega / 2`. Infinite for a body with no stiffness.
 pub fn stable_step(freq_hz: f64, beta: f64) -> f64 {
     let omega = 2.0 * std::f64::consts::PI * freq_hz;
     if omega <= 0.0 {
         return f64::INFINITY;
     }
     if beta > 0.0 {
-        let a = ((beta * beta * omega * omega + 4.0).sqrt() - beta * omega) / omega;
-        a.min(2.0 / (beta * omega * omega))
+        damped_stable_step(omega, 0.5 * beta * omega)
     } else {
         2.0 / omega
+    }
+}
+
+/// Stable step of the central-difference scheme for a mode of circular frequency
+/// `omega > 0` whose lagged damping coefficient is `c = 2 kappa omega` (`kappa >= 0`, the
+/// damping ratio of the lagged terms): the positive root `s` of `omega^2 s^2 + 2 c s = 4`,
+/// `(sqrt(c^2 + 4 omega^2) - c) / omega^2`. That form overflows in `c^2` (an infinite step
+/// above c = 1.3e154) and cancels to zero or far off between (3.8 times too long near
+/// c = 1e8 omega); the same root is `2 / (omega (kappa + sqrt(kappa^2 + 1)))`, a sum of
+/// positive terms, computed here with `kappa` factored out above 1 so that nothing
+/// overflows for any finite `kappa`: the result is correct to a few ulps wherever it is a
+/// normal number, and underflows to a subnormal or 0 only when the true step does.
+pub fn damped_stable_step(omega: f64, kappa: f64) -> f64 {
+    if kappa <= 1.0 {
+        2.0 / (omega * (kappa + kappa.hypot(1.0)))
+    } else {
+        (2.0 / kappa) / omega / (1.0 + 1.0f64.hypot(1.0 / kappa))
     }
 }

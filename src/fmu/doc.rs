@@ -4,7 +4,7 @@
 use std::fmt::Write;
 
 use super::options::SceneOptions;
-use super::vars::{Causality, VarTable, method_name};
+use super::vars::{Causality, VarTable, default_method, method_name};
 use super::xml::{feeds_through, modes_summary};
 use crate::scene::Scene;
 
@@ -53,7 +53,7 @@ pub fn index_html(scene: &Scene, table: &VarTable, opts: &SceneOptions, guid: &s
             .map(|&m| method_name(m))
             .collect::<Vec<_>>()
             .join(", "),
-        method_name(table.default_method),
+        default_text(table),
         opts.units
             .map_or("none declared (the file's own consistent system)", |u| u
                 .name()),
@@ -97,6 +97,21 @@ pub fn index_html(scene: &Scene, table: &VarTable, opts: &SceneOptions, guid: &s
     h
 }
 
+/// The default method and why: the body's default with its reason, or the method
+/// `pack --method` chose.
+fn default_text(table: &VarTable) -> String {
+    let (body_default, why) = default_method(table.free);
+    if table.default_method == body_default {
+        esc(&format!("{} ({why})", method_name(body_default)))
+    } else {
+        esc(&format!(
+            "{} (chosen by pack --method; this body's own default is {}: {why})",
+            method_name(table.default_method),
+            method_name(body_default)
+        ))
+    }
+}
+
 /// The outputs that depend on same-instant inputs, from the function the model
 /// description's ModelStructure is written from ([`feeds_through`]).
 fn dependencies(h: &mut String, scene: &Scene, table: &VarTable) {
@@ -122,4 +137,48 @@ fn dependencies(h: &mut String, scene: &Scene, table: &VarTable) {
         );
     }
     h.push_str("</table>\n");
+}
+
+#[cfg(test)]
+mod tests {
+    use super::index_html;
+    use crate::fmu::options::SceneOptions;
+    use crate::fmu::vars::VarTable;
+    use crate::solver::Method;
+
+    /// The page says which method runs unless chosen, and why: exact for a blocked body,
+    /// split for a free one (issue 28), and the method `pack --method` chose beside the
+    /// body's own default.
+    #[test]
+    fn the_page_names_the_default_method_and_why() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let blocked = crate::fmu::scene_io::cantilever_tip_scene();
+        let body = crate::body::load(&root.join("fixtures/freefree.fxb")).unwrap();
+        let x = body.rigid_mode_positions().unwrap();
+        let free = crate::scene::Scene::new(std::sync::Arc::new(body), vec![20], vec![x[20]]);
+        let opts = SceneOptions {
+            name: "t".into(),
+            ..SceneOptions::default()
+        };
+        let page = |s: &crate::scene::Scene, t: &VarTable| index_html(s, t, &opts, "{g}");
+        let b = page(&blocked, &VarTable::new(&blocked));
+        assert!(
+            b.contains("default exact (no time-discretisation error"),
+            "{b}"
+        );
+        let f = page(&free, &VarTable::new(&free));
+        assert!(
+            f.contains("default split (local modes exact between samples")
+                && f.contains("each step's impulse exact"),
+            "{f}"
+        );
+        let chosen = VarTable::new(&free).with_default_method(Some(Method::Implicit));
+        let c = page(&free, &chosen);
+        assert!(
+            c.contains(
+                "default implicit (chosen by pack --method; this body's own default is split"
+            ),
+            "{c}"
+        );
+    }
 }

@@ -30,7 +30,8 @@
 use super::vars::{Kind, VarTable};
 use crate::num::num;
 use crate::scene::Scene;
-use crate::solver::{Growth, Method, Solver, SolverError, State};
+use crate::solver::damping::LocalDamping;
+use crate::solver::{Growth, Method, Options, Solver, SolverError, State};
 
 /// The rollback buffer, the running bounds and the output workspace of one instance.
 pub struct StepGuard {
@@ -72,18 +73,37 @@ pub struct StepGuard {
 
 /// The largest magnitude `s` of the state entries and inputs under which every output
 /// the guard checks is certainly finite, so that a step whose state and inputs stay below
-/// it needs no output evaluated. Each output is a sum of at most `n` terms, each a
-/// product of at most three factors that are state entries or inputs (free bodies: the
-/// frame P is built from the state) and one body-matrix entry of magnitude at most `a`,
-/// plus a coordinate; with `s <= 1e90 / (n a)` and `n a >= 1` every such sum is below
-/// `n a s^3 <= 1e270 / (n a)^2`, far from overflow. Realistic states (1e-6 .. 1e6) are far
-/// below the bound, so the costly path only runs for a step that is already suspect.
-fn output_bound(scene: &Scene) -> f64 {
+/// it needs no output evaluated. Every output (and output derivative) is a sum over at
+/// most `n` terms per coefficient of products of at most 10 coefficients of magnitude at
+/// most `a` and at most 8 factors that are state entries (the time and the loads' values
+/// and rates among them), inputs or the step: the explicit method's velocity is
+/// `v + dt/2 M^-1 (F(t) - K q - C v)` with `F(t) = F0 + F1 (t - t_set)` (degree 3 in the
+/// state), its kinetic energy a quadratic form of it in a mass that depends on the frame
+/// P, itself part of a free body's state (degree 7). With `s >= 1` each is below
+/// `(n a)^10 s^8`, so `s <= (1e300 / (n a)^10)^(1/8)` keeps them finite. Realistic states
+/// (1e-6 .. 1e6) are far below the bound (5e23 on the shipped cantilever), so the costly
+/// path only runs for a step that is already suspect. (Until issue 28 the bound was
+/// `1e90 / (n a)`, counting one coefficient and three state factors per term: the blocked
+/// explicit method's kinetic energy from a state of 5e77 was infinite.)
+///
+/// The coefficients are the body's matrix entries and what the methods form from them
+/// and from the parameters: the largest `omega^2`, `2 / omega_max` (the explicit step)
+/// and modal damping coefficient (Rayleigh plus `2 zeta omega`, which `damping.ratio`
+/// can make as large as 1e300), the inverse local masses, the inverse of the rigid mass
+/// scale (free bodies: the frame's accelerations divide by it, and the body checks keep
+/// every inertia above 1e-10 of it), gravity, the initial velocities and spin. A
+/// parameter that makes `a` huge thus sends every step to the full check rather than
+/// letting a product of a bounded state with a huge coefficient pass unseen.
+pub(crate) fn output_bound(scene: &Scene, opts: &Options) -> f64 {
     let b = &scene.body;
     let mut a: f64 = 1.0;
     let mut grow = |m: &[f64]| {
         for &x in m {
-            a = a.max(x.abs());
+            // Not `max`: a NaN must win, and make the bound 0 (every step checked).
+            let x = x.abs();
+            if x.is_nan() || x > a {
+                a = x;
+            }
         }
     };
     grow(b.phi_l.as_slice());
@@ -100,15 +120,38 @@ fn output_bound(scene: &Scene) -> f64 {
     for x in &scene.x0 {
         grow(x);
     }
+    grow(&scene.gravity);
+    grow(&scene.v0);
+    grow(&scene.w0);
+    let inverse_masses: Vec<f64> = b.m_l.iter().map(|m| 1.0 / m).collect();
+    grow(&inverse_masses);
+    if b.nr() > 0 {
+        let scale = (0..b.nr().min(12))
+            .map(|i| b.m_r[(i, i)].abs())
+            .fold(0.0, f64::max);
+        grow(&[1e10 / scale]);
+    }
+    let w = 2.0 * std::f64::consts::PI * b.freq_max_hz();
+    grow(&[w * w]);
+    if w > 0.0 {
+        grow(&[2.0 / w]);
+    }
+    if let Ok(d) = LocalDamping::new(b, opts.damping_ratio) {
+        grow(&[d.modal(w), d.alpha]);
+    }
     let n = (6 * b.nnodes() + b.nr() + b.nl() + 12) as f64;
-    // A non-finite matrix entry (refused by the body checks) would make every step take
-    // the full check.
-    let bound = 1e90 / (n * a);
-    if bound.is_finite() { bound } else { 0.0 }
+    // In logarithms: (n a)^10 overflows long before the bound reaches 0.
+    let log_bound = (300.0 - 10.0 * (n * a).log10()) / 8.0;
+    if log_bound > -300.0 {
+        10f64.powf(log_bound)
+    } else {
+        0.0
+    }
 }
 
 impl StepGuard {
-    /// A guard for the scene's solver (one row of outputs per exposed node).
+    /// A guard for the scene's solver (one row of outputs per exposed node), for the
+    /// default options until [`StepGuard::adopt`] gives it the solver's.
     pub fn new(scene: &Scene) -> StepGuard {
         let nodes = scene.nodes.len();
         let empty = || State {
@@ -116,7 +159,7 @@ impl StepGuard {
             data: Vec::new(),
         };
         StepGuard {
-            bound: output_bound(scene),
+            bound: output_bound(scene, &Options::default()),
             saved: empty(),
             after: empty(),
             saved_is_current: false,
@@ -154,10 +197,12 @@ impl StepGuard {
         self.cap = largest_magnitude(loads);
     }
 
-    /// A new solver: forget the old one's state, and size both state buffers for this
-    /// one now, so that its first checked step allocates nothing either (a run of
-    /// bounded steps never fills them).
-    pub fn adopt(&mut self, s: &dyn Solver) {
+    /// A new solver, built for `scene` (with the parameters' gravity and initial
+    /// velocities) and `opts`: the output bound for them, forget the old solver's state,
+    /// and size both state buffers for this one now, so that its first checked step
+    /// allocates nothing either (a run of bounded steps never fills them).
+    pub fn adopt(&mut self, s: &dyn Solver, scene: &Scene, opts: &Options) {
+        self.bound = output_bound(scene, opts);
         s.state_into(&mut self.saved);
         s.state_into(&mut self.after);
         self.forget();
@@ -308,11 +353,22 @@ impl StepGuard {
                 .map_or_else(|| format!("{kind:?}"), |v| v.name.clone())
         };
         type Fill = fn(&dyn Solver, &mut [f64]);
-        let outputs: [(Fill, &str); 4] = [
+        // The accelerations too: they are the outputs' derivatives a master reads
+        // (fmi2GetRealOutputDerivatives).
+        let outputs: [(Fill, &str); 6] = [
             (|s, o| s.positions(o), "position"),
             (|s, o| s.velocities(o), "velocity"),
             (|s, o| s.rotations(o), "rotation"),
             (|s, o| s.rotation_rates(o), "angular velocity"),
+            (|s, o| s.accelerations(o), "acceleration"),
+            (
+                |s, o| {
+                    if !s.rotation_accelerations(o) {
+                        o.fill(0.0);
+                    }
+                },
+                "angular acceleration",
+            ),
         ];
         for (fill, what) in outputs {
             fill(s, &mut self.out);
@@ -323,9 +379,13 @@ impl StepGuard {
                     "velocity" => named(Kind::Velocity { node, comp }),
                     "rotation" => named(Kind::Rotation { node, comp }),
                     "angular velocity" => named(Kind::AngularVelocity { node, comp }),
-                    _ => format!(
-                        "the acceleration of {}",
+                    "acceleration" => format!(
+                        "the acceleration (second derivative) of {}",
                         named(Kind::Position { node, comp })
+                    ),
+                    _ => format!(
+                        "the angular acceleration (derivative) of {}",
+                        named(Kind::AngularVelocity { node, comp })
                     ),
                 });
             }

@@ -170,7 +170,7 @@ impl Model {
             }
         })?;
         self.solver_warns = s.can_warn();
-        self.guard.adopt(s.as_ref());
+        self.guard.adopt(s.as_ref(), &self.scene, &self.opts);
         self.solver = Some(s);
         self.dirty = false;
         self.loads_dirty = true;

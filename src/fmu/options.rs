@@ -156,7 +156,8 @@ pub struct SceneOptions {
     /// DefaultExperiment stop time (`pack --stop`), s; `None`: derived from the body.
     pub stop: Option<f64>,
     /// Start value of the `method` parameter (`pack --method`), for masters that cannot
-    /// set parameters; `None`: the body's default (exact blocked, implicit free).
+    /// set parameters; `None`: the body's default ([`super::vars::default_method`]: exact
+    /// blocked, split free).
     pub method: Option<Method>,
     /// FMI platforms of libraries added besides linux64 (`pack --binary`).
     pub platforms: Vec<String>,

@@ -39,7 +39,7 @@ pub enum SceneError {
     NoNodes,
     /// `method = exact` for a free body.
     #[error(
-        "method exact: exact modal stepping needs a blocked body; {body} is free and offers explicit or implicit"
+        "method exact: exact modal stepping needs a blocked body; {body} is free and offers split (its default), implicit or explicit"
     )]
     ExactOnFree {
         /// The body file.

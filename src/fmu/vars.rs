@@ -145,16 +145,22 @@ const AXES: [&str; 3] = ["x", "y", "z"];
 const LOADS: [&str; 6] = ["fx", "fy", "fz", "mx", "my", "mz"];
 
 impl VarTable {
+    /// The value references of every output, in description order (what a master reads
+    /// after each step).
+    pub fn output_refs(&self) -> Vec<u32> {
+        self.vars
+            .iter()
+            .filter(|v| v.causality == Causality::Output)
+            .map(|v| v.vr)
+            .collect()
+    }
+
     /// The table for a scene. Exposed node `k` has ID `body.node_ids[scene.nodes[k]]`;
     /// moment inputs exist only for nodes with rotational DOFs.
     pub fn new(scene: &Scene) -> VarTable {
         let body = &scene.body;
         let free = !body.iblo;
-        let default_method = if free {
-            Method::Implicit
-        } else {
-            Method::Exact
-        };
+        let default_method = default_method(free).0;
         let mut vars = Vec::new();
         let mut push = |name: String, causality, start, kind, quantity, description: String| {
             let vr = vars.len() as u32;
@@ -315,7 +321,9 @@ impl VarTable {
                 continue;
             }
             let rot_desc = if free {
-                "frame rotation then local small rotation"
+                "frame rotation then local small rotation; angle at most pi, so the vector \
+                 jumps from about pi n to about -pi n each time the rotation passes pi (a \
+                 steady spin: once a turn); integrate wx, wy, wz for a continuous angle"
             } else {
                 "small rotation of the modes' rotation rows"
             };
@@ -506,6 +514,30 @@ fn method_description(free: bool) -> String {
         })
         .collect();
     format!("Integration method: {}", items.join(", "))
+}
+
+/// The method a body runs unless `pack --method` or the master chooses another, and
+/// why, in words for the FMU's documentation page. Blocked bodies: exact modal stepping,
+/// which has no time-discretisation error at any step and is the cheapest per step. Free
+/// bodies: split, which keeps the local modes exact between samples and the frame second
+/// order on the rotation group at any step and delivers each step's impulse exactly; on
+/// the free bodies of docs/STUDY.md it is the most accurate per unit of cost, where the
+/// implicit method damps the highest modes and the explicit one is bound by the stable
+/// step.
+pub fn default_method(free: bool) -> (Method, &'static str) {
+    if free {
+        (
+            Method::Split,
+            "local modes exact between samples, the frame second order on the rotation \
+             group, any step, each step's impulse exact; the implicit method damps the \
+             highest modes and the explicit one is bound by the stable step",
+        )
+    } else {
+        (
+            Method::Exact,
+            "no time-discretisation error at any step, and the cheapest step",
+        )
+    }
 }
 
 /// The name of a method (from [`METHODS`]).

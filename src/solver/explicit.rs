@@ -85,6 +85,8 @@ impl Explicit {
         let io = Exposed::new(scene, &DMatrix::identity(nl, nl))?;
         let damping = LocalDamping::new(body, opts.damping_ratio)?;
         let (ra, rb) = (damping.alpha, damping.beta);
+        let dt_fx = damping.explicit_stable_step(body);
+        super::damping::check_explicit_step(dt_fx, opts.damping_ratio)?;
         Ok(Explicit {
             time: 0.0,
             io,
@@ -92,7 +94,7 @@ impl Explicit {
             k: body.k_l.clone(),
             ra,
             rb,
-            dt_max: opts.dt_factor * damping.explicit_stable_step(body),
+            dt_max: opts.dt_factor * dt_fx,
             c_add: damping.added_matrix(body),
             subcycle: opts.subcycle,
             dt1: 0.0,

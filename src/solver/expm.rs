@@ -30,9 +30,11 @@ pub fn expm(a: &M4) -> M4 {
         .fold(0.0, f64::max);
     let mut s = 0i32;
     if norm > 0.5 {
-        // At most 1100 squarings (2^1100 exceeds f64::MAX): an infinite norm must not
-        // turn into 2^31 of them.
-        s = ((norm / 0.5).log2().ceil() as i32).min(1100);
+        // log2(norm) + 1, not log2(norm / 0.5): the quotient overflows for a norm near
+        // f64::MAX (a strongly damped mode over a long step), which took the matrix to
+        // zero and left its velocity undamped. At most 1100 squarings (2^1100 exceeds
+        // f64::MAX): an infinite norm must not turn into 2^31 of them.
+        s = ((norm.log2() + 1.0).ceil() as i32).min(1100);
     }
     let scale = 0.5f64.powi(s);
     let mut b = *a;

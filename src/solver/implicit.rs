@@ -2,9 +2,22 @@
 //!
 //! With `alpha_m = (2 rho - 1)/(rho + 1)`, `alpha_f = rho/(rho + 1)`,
 //! `gamma = 1/2 - alpha_m + alpha_f`, `beta = (1 - alpha_m + alpha_f)^2 / 4`, the step
-//! solves `M a_(n+1-alpha_m) + C v_(n+1-alpha_f) + K q_(n+1-alpha_f) = F(t_(n+1-alpha_f))`
-//! with Newmark's updates for q and v: second order, unconditionally stable, and the
-//! spectral radius at infinite frequency is `rho_inf`.
+//! solves `M a_(n+1-alpha_m) + C v_(n+1-alpha_f) + K q_(n+1-alpha_f) = 0` with Newmark's
+//! updates for q and v: second order, unconditionally stable, and the spectral radius at
+//! infinite frequency is `rho_inf`.
+//!
+//! The load is not sampled by the scheme: it is integrated exactly. Over a step the
+//! caller's load is the polynomial `f0 + f1 s` (held value, and the rate when input
+//! derivatives are set), and a free mass would gain exactly `I1 = f0 h + f1 h^2/2` of
+//! velocity and `I2 = f0 h^2/2 + f1 h^3/6` of displacement; Newmark's updates add these
+//! to the generalised-alpha increments of the internal forces (stiffness and damping), so
+//! `a` is the algorithmic acceleration of the internal forces alone. A load held over a
+//! step thus delivers exactly its impulse `F h` whatever it was before (sampling the load
+//! at `t_(n+1-alpha_f)` and carrying it in `a` would move half a step of impulse at every
+//! jump of a held input), and a load at rest on the static deflection keeps the body
+//! there (the static state is a fixed point of the step). The internal forces are
+//! integrated exactly as the plain scheme integrates them, so stability, dissipation and
+//! order are those of generalised-alpha.
 //!
 //! The scheme is linear and its matrices are combinations of M, K and the Rayleigh
 //! damping `C = alpha M + beta K`, so it commutes with the change to the mass-normalised
@@ -15,17 +28,22 @@
 //! rows in the modal basis, like the exact method. The local coordinates `alpha = S y`
 //! are formed only when `modal()` asks for them.
 //!
-//! The acceleration is the method's own variable, carried from step to step. Before the
-//! first step it is set from the equation of motion whenever the loads change, so that
-//! a start under load is consistent.
+//! Modes that do not oscillate (damping `d >= 2 omega`, for example with
+//! `damping.ratio >= 1`) are advanced exactly, with the exact method's transition
+//! ([`super::expm::mode_coefficients`]): numerical dissipation of unresolved oscillation,
+//! the reason for generalised-alpha, has nothing to act on there, and in its overdamped
+//! limit (`d h >> 1`) generalised-alpha moves a mode against a step load by
+//! `(gamma - 1/2)^2 / 4 F h^2` that never decays (a cantilever under a tip force with
+//! `damping.ratio = 1e6` deflected the wrong way, -6.1e-8 m, where it barely moves).
 //!
-//! State layout (`State::data`): time, the load part (`t_set`, 6m loads, 6m rates), a
-//! started flag (0 or 1), then the modal y, y', y'' (nL each, in the order of the modal
-//! basis).
+//! State layout (`State::data`): time, the load part (`t_set`, 6m loads, 6m rates), then
+//! the modal y, y' and the internal forces' algorithmic acceleration (nL each, in the
+//! order of the modal basis).
 
 use nalgebra::DVector;
 
 use super::damping::LocalDamping;
+use super::expm::mode_coefficients;
 use super::nodes::{Exposed, LocalCoords, check_state, modal_basis, modal_strain_energy};
 use super::{Frame, Method, Options, Solver, SolverError, State};
 use crate::scene::Scene;
@@ -66,20 +84,31 @@ pub struct Implicit {
     io: Exposed,
     /// `S = m^-1/2 V`, physical from modal coordinates.
     basis: nalgebra::DMatrix<f64>,
+    /// `omega` per mode.
+    omega: Vec<f64>,
     /// `omega^2` per mode.
     w2: Vec<f64>,
-    /// Modal damping `alpha + beta omega^2 (+ 2 zeta omega)`.
+    /// Modal damping `alpha + beta omega^2 (+ 2 zeta omega)` ([`LocalDamping::modal`]).
     damp: Vec<f64>,
+    /// The modes advanced exactly (they do not oscillate: `d >= 2 omega`, `d > 0`).
+    exact: Vec<usize>,
     p: AlphaParams,
-    started: bool,
     y: DVector<f64>,
     v: DVector<f64>,
+    /// Algorithmic acceleration of the internal forces (the load is integrated apart).
     a: DVector<f64>,
+    /// The acceleration output: `a` plus the load at the current time.
+    acc: DVector<f64>,
     alpha: LocalCoords,
     cache_h: [f64; 2],
     /// For the step sizes in `cache_h`: the inverse of each mode's effective mass
-    /// `(1-alpha_m) + (1-alpha_f)(gamma h d + beta h^2 omega^2)`.
+    /// `(1-alpha_m) + (1-alpha_f)(gamma h d + beta h^2 omega^2)` (generalised-alpha
+    /// modes), or the exact transition's eight coefficients of each exact mode, one after
+    /// the other in the order of `exact`.
     inv: [Vec<f64>; 2],
+    coef: [Vec<f64>; 2],
+    /// The exact modes' new `(y, y', a)` during a step.
+    scratch: Vec<(f64, f64, f64)>,
     next_slot: usize,
 }
 
@@ -103,36 +132,43 @@ impl Implicit {
         let io = Exposed::new(scene, &basis)?;
         let damping = LocalDamping::new(body, opts.damping_ratio)?;
         let w2: Vec<f64> = omega.iter().map(|&w| w * w).collect();
-        let damp = omega.iter().map(|&w| damping.modal(w)).collect();
+        let damp: Vec<f64> = omega.iter().map(|&w| damping.modal(w)).collect();
+        let exact = (0..nl)
+            .filter(|&j| damp[j] > 0.0 && damp[j] >= 2.0 * omega[j])
+            .collect::<Vec<_>>();
+        let ne = exact.len();
         Ok(Implicit {
             time: 0.0,
             io,
             basis,
+            omega,
             w2,
             damp,
+            exact,
             p: AlphaParams::new(rho_inf),
-            started: false,
             y: DVector::zeros(nl),
             v: DVector::zeros(nl),
             a: DVector::zeros(nl),
+            acc: DVector::zeros(nl),
             alpha: LocalCoords::new(nl),
             cache_h: [f64::NAN; 2],
             inv: [vec![0.0; nl], vec![0.0; nl]],
+            coef: [vec![0.0; 8 * ne], vec![0.0; 8 * ne]],
+            scratch: vec![(0.0, 0.0, 0.0); ne],
             next_slot: 0,
         })
     }
 
-    /// Acceleration from the equation of motion at the current time, mode by mode:
-    /// `f - d y' - omega^2 y`.
-    fn consistent_acceleration(&mut self) {
-        for j in 0..self.y.len() {
-            self.a[j] =
-                self.io.force(j, self.time) - self.damp[j] * self.v[j] - self.w2[j] * self.y[j];
+    /// The acceleration output at the current time: the internal forces' algorithmic
+    /// acceleration plus the load now.
+    fn update_acceleration(&mut self) {
+        for j in 0..self.a.len() {
+            self.acc[j] = self.a[j] + self.io.force(j, self.time);
         }
     }
 
-    /// The slot holding the inverse effective masses for step `h`, computing them if
-    /// needed.
+    /// The slot holding the inverse effective masses (and the exact modes'
+    /// coefficients) for step `h`, computing them if needed.
     fn factor(&mut self, h: f64) -> Result<usize, SolverError> {
         if let Some(slot) = self.cache_h.iter().position(|&c| c == h) {
             return Ok(slot);
@@ -142,15 +178,38 @@ impl Implicit {
         let c = 1.0 - p.af;
         for (j, inv) in self.inv[slot].iter_mut().enumerate() {
             let s = (1.0 - p.am) + c * (p.gamma * h * self.damp[j] + p.beta * h * h * self.w2[j]);
-            if !(s > 0.0 && s.is_finite()) {
-                self.cache_h[slot] = f64::NAN;
-                return Err(SolverError::Singular(format!(
-                    "generalised-alpha effective mass of mode {j} is {} for step {} s",
-                    crate::num::num(s),
+            // The exact modes have no effective mass (it may overflow): unused.
+            *inv = if s > 0.0 && s.is_finite() {
+                1.0 / s
+            } else {
+                f64::NAN
+            };
+        }
+        for (k, &j) in self.exact.iter().enumerate() {
+            let cj = mode_coefficients(self.omega[j], self.damp[j], h);
+            self.coef[slot][8 * k..8 * k + 8].copy_from_slice(&cj);
+        }
+        let bad_alpha = (0..self.y.len())
+            .filter(|j| !self.exact.contains(j))
+            .find(|&j| !self.inv[slot][j].is_finite());
+        let bad_exact = self.coef[slot].iter().any(|c| !c.is_finite());
+        if bad_alpha.is_some() || bad_exact {
+            self.cache_h[slot] = f64::NAN;
+            let why = match bad_alpha {
+                Some(j) => format!(
+                    "the generalised-alpha effective mass of mode {} is not finite for a step of {} s",
+                    j + 1,
                     crate::num::num(h)
-                )));
-            }
-            *inv = 1.0 / s;
+                ),
+                None => format!(
+                    "a step of {} s overflows the exact transition of an overdamped mode (omega h is not finite)",
+                    crate::num::num(h)
+                ),
+            };
+            return Err(SolverError::Unsupported {
+                method: Method::Implicit,
+                why,
+            });
         }
         self.next_slot = 1 - slot;
         self.cache_h[slot] = h;
@@ -158,7 +217,7 @@ impl Implicit {
     }
 
     fn state_len(&self) -> usize {
-        2 + self.io.saved_len() + 3 * self.y.len()
+        1 + self.io.saved_len() + 3 * self.y.len()
     }
 }
 
@@ -173,17 +232,13 @@ impl Solver for Implicit {
 
     fn set_loads(&mut self, loads: &[f64]) -> Result<(), SolverError> {
         self.io.set_loads(loads, self.time)?;
-        if !self.started {
-            self.consistent_acceleration();
-        }
+        self.update_acceleration();
         Ok(())
     }
 
     fn set_load_rates(&mut self, rates: &[f64]) -> Result<(), SolverError> {
         self.io.set_rates(rates, self.time)?;
-        if !self.started {
-            self.consistent_acceleration();
-        }
+        self.update_acceleration();
         Ok(())
     }
 
@@ -194,32 +249,51 @@ impl Solver for Implicit {
         let slot = self.factor(h)?;
         let p = self.p;
         let c = 1.0 - p.af;
-        // Load at t_(n+1-alpha_f).
-        let dtf = self.time + c * h - self.io.held.t_set;
+        // The load over the step is f0 + f1 s: its exact velocity and displacement
+        // increments on a free mass, per unit of f0 and of f1.
+        let dt0 = self.time - self.io.held.t_set;
+        let (h2, h3) = (h * h, h * h * h);
+        let (i1_0, i1_1, i2_0, i2_1) = (h, 0.5 * h2, 0.5 * h2, h3 / 6.0);
         // Per mode, with u = v_(n+1-af) and w = q_(n+1-af) without their a_(n+1) parts:
-        // s a1 = f - am a - d u - omega^2 w, then Newmark's updates.
-        let (cq_v, cq_a) = (c * h, c * h * h * (0.5 - p.beta));
+        // s a1 = -am a - d u - omega^2 w, then Newmark's updates plus the load's.
+        let (cq_v, cq_a) = (c * h, c * h2 * (0.5 - p.beta));
         let cv_a = c * h * (1.0 - p.gamma);
-        let (h2, bb, g, am) = (h * h, p.beta, p.gamma, p.am);
+        let (bb, g, am) = (p.beta, p.gamma, p.am);
         let n = self.y.len();
+        let (f, fd) = (&self.io.f.as_slice()[..n], &self.io.fd.as_slice()[..n]);
+        // The modes that do not oscillate: exact, into `scratch` first (the loop below
+        // runs over every mode), with the internal forces' acceleration taken from the
+        // new state (so that a change of step size continues smoothly).
+        for (k, &j) in self.exact.iter().enumerate() {
+            let cj = &self.coef[slot][8 * k..8 * k + 8];
+            let (y0, v0) = (self.y[j], self.v[j]);
+            let f0 = f[j] + fd[j] * dt0;
+            let y1 = cj[0] * y0 + cj[1] * v0 + cj[2] * f0 + cj[3] * fd[j];
+            let v1 = cj[4] * y0 + cj[5] * v0 + cj[6] * f0 + cj[7] * fd[j];
+            self.scratch[k] = (y1, v1, -self.damp[j] * v1 - self.w2[j] * y1);
+        }
         let inv = &self.inv[slot][..n];
         let (w2, d) = (&self.w2[..n], &self.damp[..n]);
-        let (f, fd) = (&self.io.f.as_slice()[..n], &self.io.fd.as_slice()[..n]);
         let y = &mut self.y.as_mut_slice()[..n];
         let v = &mut self.v.as_mut_slice()[..n];
         let a = &mut self.a.as_mut_slice()[..n];
         for j in 0..n {
             let (y0, v0, a0) = (y[j], v[j], a[j]);
-            let u = v0 + cv_a * a0;
-            let w = y0 + cq_v * v0 + cq_a * a0;
-            let r = (f[j] + fd[j] * dtf) - am * a0 - d[j] * u - w2[j] * w;
-            let a1 = r * inv[j];
-            y[j] = y0 + h * v0 + h2 * ((0.5 - bb) * a0 + bb * a1);
-            v[j] = v0 + h * ((1.0 - g) * a0 + g * a1);
+            let f0 = f[j] + fd[j] * dt0;
+            let i1 = i1_0 * f0 + i1_1 * fd[j];
+            let i2 = i2_0 * f0 + i2_1 * fd[j];
+            let u = v0 + cv_a * a0 + c * i1;
+            let w = y0 + cq_v * v0 + cq_a * a0 + c * i2;
+            let a1 = (-am * a0 - d[j] * u - w2[j] * w) * inv[j];
+            y[j] = y0 + h * v0 + h2 * ((0.5 - bb) * a0 + bb * a1) + i2;
+            v[j] = v0 + h * ((1.0 - g) * a0 + g * a1) + i1;
             a[j] = a1;
         }
+        for (k, &j) in self.exact.iter().enumerate() {
+            (y[j], v[j], a[j]) = self.scratch[k];
+        }
         self.time += h;
-        self.started = true;
+        self.update_acceleration();
         self.alpha.invalidate();
         Ok(())
     }
@@ -237,7 +311,7 @@ impl Solver for Implicit {
     }
 
     fn accelerations(&self, out: &mut [f64]) {
-        self.io.translations(&self.a, out);
+        self.io.translations(&self.acc, out);
     }
 
     fn rotation_rates(&self, out: &mut [f64]) {
@@ -249,7 +323,7 @@ impl Solver for Implicit {
     }
 
     fn rotation_accelerations(&self, out: &mut [f64]) -> bool {
-        self.io.rotations(&self.a, out);
+        self.io.rotations(&self.acc, out);
         true
     }
 
@@ -284,7 +358,6 @@ impl Solver for Implicit {
         data.clear();
         data.push(self.time);
         self.io.save(data);
-        data.push(if self.started { 1.0 } else { 0.0 });
         data.extend_from_slice(self.y.as_slice());
         data.extend_from_slice(self.v.as_slice());
         data.extend_from_slice(self.a.as_slice());
@@ -297,11 +370,10 @@ impl Solver for Implicit {
         let k = 1 + self.io.saved_len();
         self.time = d[0];
         self.io.restore(&d[1..k]);
-        self.started = d[k] != 0.0;
-        let k = k + 1;
         self.y.copy_from_slice(&d[k..k + nl]);
         self.v.copy_from_slice(&d[k + nl..k + 2 * nl]);
         self.a.copy_from_slice(&d[k + 2 * nl..k + 3 * nl]);
+        self.update_acceleration();
         self.alpha.invalidate();
         Ok(())
     }

@@ -107,8 +107,8 @@ pub enum SolverError {
     /// A step would take more internal steps than [`MAX_INTERNAL_STEPS`]: refused before
     /// any work, so that no call runs for minutes or forever.
     #[error(
-        "a step of {} s needs {} internal steps of at most {} s, more than the budget of {MAX_INTERNAL_STEPS} per call; use steps of at most {} s",
-        crate::num::num(*h), crate::num::num(*steps), crate::num::num(*internal), crate::num::num(*max_h)
+        "a step of {} s needs {} internal steps of at most {} s, more than the budget of {MAX_INTERNAL_STEPS} per call; {}",
+        crate::num::num(*h), step_count(*steps), crate::num::num(*internal), budget_advice(*max_h)
     )]
     TooManySteps {
         /// The step asked for.
@@ -132,6 +132,32 @@ pub enum SolverError {
     /// rotation); the step is refused with the figure and advice.
     #[error("{0}")]
     Invalid(String),
+}
+
+/// The advice of [`SolverError::TooManySteps`]: the largest communication step that fits
+/// the budget when it is a usable number (positive, a normal `f64`); otherwise no step
+/// of any usable size fits (the method's internal step underflows, for example under an
+/// added damping ratio near `f64::MAX`), and another method is the remedy.
+fn budget_advice(max_h: f64) -> String {
+    if max_h.is_normal() && max_h > 0.0 {
+        format!("use steps of at most {} s", crate::num::num(max_h))
+    } else {
+        format!(
+            "no step of a usable size fits the budget (the largest is {} s): use another \
+             method",
+            crate::num::num(max_h)
+        )
+    }
+}
+
+/// An internal step count for [`SolverError::TooManySteps`]: beyond `f64::MAX` (an
+/// internal step that underflows) it is "more than 1.8e308", never "inf".
+fn step_count(steps: f64) -> String {
+    if steps.is_finite() {
+        crate::num::num(steps)
+    } else {
+        format!("more than {}", crate::num::num(f64::MAX))
+    }
 }
 
 /// The most internal steps (sub-cycles, Newton iterations summed over sub-steps) one call
@@ -226,6 +252,14 @@ pub trait Solver: Send {
     fn kinetic_energy(&self) -> f64;
     /// The moving frame, for free bodies; `None` for blocked ones.
     fn frame(&self) -> Option<Frame>;
+    /// Linear momentum of a free body (global components): `s_c^T M v` with `M` the
+    /// mass matrix of section 3 for the current frame, `v` the coordinate velocities
+    /// and `s_c` the uniform translation of the frame points along axis `c`. Its change
+    /// over a step is the impulse of the applied forces (and of gravity), whatever the
+    /// body does inside; `None` for blocked bodies, which have no momentum of their own.
+    fn momentum(&self) -> Option<[f64; 3]> {
+        None
+    }
     /// Save the complete state.
     fn state(&self) -> State;
     /// Restore a state saved by a solver built from the same scene and method.
@@ -303,12 +337,33 @@ pub fn build(
     method: Method,
     opts: &Options,
 ) -> Result<Box<dyn Solver>, SolverError> {
+    let s = build_method(scene, method, opts)?;
+    // A start no step could leave (gravity, initial velocity or spin, or damping so large
+    // that the initial accelerations overflow) is refused here, once, rather than as a
+    // step that fails and a state that cannot be put back.
+    let state = s.state();
+    if state.data.iter().any(|x| !x.is_finite()) {
+        return Err(SolverError::Invalid(
+            "the initial state is not finite: gravity, the initial velocity or spin, or the \
+             damping is too large for this body"
+                .into(),
+        ));
+    }
+    Ok(s)
+}
+
+/// [`build`] before the check of the initial state.
+fn build_method(
+    scene: &Scene,
+    method: Method,
+    opts: &Options,
+) -> Result<Box<dyn Solver>, SolverError> {
     // A truncated scene: the kept modes by the chosen method, plus the dropped modes'
     // quasi-static displacement (residual.rs).
     if scene.residual.is_some() {
         let mut bare = scene.clone();
         bare.residual = None;
-        let inner = build(&bare, method, opts)?;
+        let inner = build_method(&bare, method, opts)?;
         return Ok(Box::new(residual::Residual::new(scene, inner)?));
     }
     if !scene.body.iblo {

@@ -171,6 +171,10 @@ impl Solver for Residual {
     fn kinetic_energy(&self) -> f64 {
         self.inner.kinetic_energy()
     }
+    fn momentum(&self) -> Option<[f64; 3]> {
+        self.inner.momentum()
+    }
+
     fn frame(&self) -> Option<Frame> {
         self.inner.frame()
     }

@@ -59,8 +59,12 @@ pub struct PackArgs {
     #[arg(long)]
     pub stop: Option<f64>,
     /// Start value of the `method` parameter: explicit, implicit, exact (blocked bodies
-    /// only) or split (free bodies only), for masters that cannot set parameters. Default: exact for blocked
-    /// bodies, implicit for free ones.
+    /// only) or split (free bodies only), for masters that cannot set parameters.
+    /// Default: exact for blocked bodies (no time-discretisation error, any step); split
+    /// for free ones (local modes exact between samples, frame second order, any step,
+    /// each step's impulse exact: the most accurate per unit of cost on the free bodies
+    /// of docs/STUDY.md, where implicit damps the highest modes and explicit is bound by
+    /// the stable step).
     #[arg(long)]
     pub method: Option<String>,
     /// Also write a C header with the GUID and every variable's value reference.

@@ -108,6 +108,10 @@ pub enum SceneFileError {
         /// Checksum of the payload.
         computed: u64,
     },
+    /// A body whose numbers fail a physical check (the same as a `.fxb` file's at load);
+    /// the message names the file, the section and the value.
+    #[error("{0}")]
+    Physics(String),
     /// A section out of place, of the wrong length, or with values no body has (a file
     /// whose checksum holds but that was not written by `pack`).
     #[error("{file}: section {section}: {what}")]
@@ -260,6 +264,7 @@ impl Writer {
     }
 }
 
+mod check;
 mod read;
 
 pub use read::{ReadError, checksum_of, from_bytes, read};

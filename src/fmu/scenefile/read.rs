@@ -41,8 +41,9 @@ pub enum ReadError {
 }
 
 /// The scene in `bytes` (a scene file's whole content), after checking the header, the
-/// checksum, every section's place and length, and that the numbers make a body (finite,
-/// m_L > 0, the mode order a permutation); `file` names it in messages.
+/// checksum, every section's place and length, that the numbers make a body (finite,
+/// m_L > 0, the mode order a permutation), and the body's physical checks (`check`: the
+/// same as a `.fxb` file's at load); `file` names it in messages.
 pub fn from_bytes(bytes: &[u8], file: &str) -> Result<Stored, SceneFileError> {
     let payload = check_header(bytes, file)?;
     let checksum = u64_at(bytes, 24);
@@ -73,11 +74,11 @@ pub fn from_bytes(bytes: &[u8], file: &str) -> Result<Stored, SceneFileError> {
             format!("value {}: expected finite", crate::num::num(v)),
         ));
     }
-    if alpha < 0.0 || beta < 0.0 {
+    if !bit(3) && (alpha != 0.0 || beta != 0.0) {
         return Err(r.bad(
             "BODY",
             format!(
-                "Rayleigh alpha {}, beta {}: expected >= 0",
+                "Rayleigh alpha {}, beta {} without the damping flag (bit 3): expected 0 (the physical check of the coefficients runs when the flag is set)",
                 crate::num::num(alpha),
                 crate::num::num(beta)
             ),
@@ -107,12 +108,6 @@ pub fn from_bytes(bytes: &[u8], file: &str) -> Result<Stored, SceneFileError> {
     let phi_r = r.matrix(b"PHIR", rows, nr)?;
     let phi_l = r.matrix(b"PHIL", rows, nl)?;
     let m_l = DVector::from_vec(r.section(b"MASS", Some(nl))?.f64s());
-    if let Some(v) = m_l.iter().find(|v| v.is_nan() || **v <= 0.0) {
-        return Err(r.bad(
-            "MASS",
-            format!("local mass {}: expected > 0", crate::num::num(*v)),
-        ));
-    }
     let k_l = match stif_kind {
         STIF_DENSE => r.matrix(b"STIF", nl, nl)?,
         STIF_RADIOSS => {
@@ -183,6 +178,7 @@ pub fn from_bytes(bytes: &[u8], file: &str) -> Result<Stored, SceneFileError> {
     }
     let mut scene = Scene::new(Arc::new(body), (0..m).collect(), x0);
     scene.residual = residual;
+    super::check::check_scene(&scene, file)?;
     Ok(Stored { scene, checksum })
 }
 

@@ -180,6 +180,7 @@ impl Explicit {
                 .explicit_stable_step_at(&scene.body, coupled);
             s.m.dt_fx = s.dt_fx;
         }
+        crate::solver::damping::check_explicit_step(s.dt_fx, opts.damping_ratio)?;
         s.evaluate_outputs()?;
         s.backup.data.reserve(s.state_len());
         Ok(s)
@@ -472,6 +473,10 @@ impl Solver for Explicit {
 
     fn kinetic_energy(&self) -> f64 {
         self.with_velocity(|v| self.m.kinetic_energy(v, &self.p))
+    }
+
+    fn momentum(&self) -> Option<[f64; 3]> {
+        Some(self.with_velocity(|v| self.m.momentum(v, &self.p)))
     }
 
     fn set_state(&mut self, state: &State) -> Result<(), SolverError> {

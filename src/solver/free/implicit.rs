@@ -13,7 +13,10 @@
 //! `v_(n+1) = v_n + h ((1 - g) a_n + g a_(n+1))`,
 //! `q_(n+1) = q_n + h v_n + h^2 ((1/2 - b) a_n + b a_(n+1))`,
 //! and the dynamic equations are satisfied at `t_(n+1)` with the loads of that time.
-//! This is second order in q and v (Arnold and Bruls 2007). Newton on x and lambda: the
+//! This is second order in q and v (Arnold and Bruls 2007). Before each step the two
+//! accelerations take the jump of a held load and the lead a load rate calls for, so
+//! that every step delivers exactly the impulse of the caller's held or linear load
+//! (`held`). Newton on x and lambda: the
 //! position constraints are divided by `h^2 b (1 - af)/(1 - am)` and the velocity
 //! constraints by `h g (1 - af)/(1 - am)` so that all rows are acceleration-like, and
 //! every constraint row is multiplied by the body's mass scale (conditioning of the
@@ -28,14 +31,15 @@
 //! A step whose Newton iteration does not converge is split in two, recursively.
 //! The iteration itself (residuals, iteration matrix, Schur solve) is in `newton`.
 
+mod held;
 mod newton;
 
 use nalgebra::{DMatrix, DVector, Matrix3};
 
 use super::lu::Lu;
 use super::{
-    Loads, MAX_FRAME_ERROR, Model, PAIRS, edge, frame_error, frame_invalid, frame_omega,
-    omega_matrix, omega_rate_from_frame, point_offset, point_vec, spin_warning,
+    Loads, MAX_FRAME_ERROR, Model, PAIRS, frame_error, frame_invalid, frame_omega,
+    omega_rate_from_frame, point_vec, spin_warning,
 };
 use super::{Undo, all_or_nothing};
 use crate::scene::Scene;
@@ -86,8 +90,14 @@ pub struct Implicit {
     a: DVector<f64>,
     /// Multipliers of the last step (initial guess of the next).
     lam: DVector<f64>,
-    /// Loads changed at t = 0 before the first step: recompute vdot_0.
-    fresh: bool,
+    /// The jump of the held loads since the last step (nodal, 6 per exposed node), not
+    /// yet added to the accelerations (`held`).
+    jump: Vec<f64>,
+    /// The lead of the algorithmic acceleration over a load with a rate, as nodal loads
+    /// (`held`): `(alpha_m - alpha_f) h F1` of the last step.
+    lag: Vec<f64>,
+    /// The nodal loads whose acceleration `held` solves for (preallocated).
+    shift: Loads,
     /// The state before the current step, restored when the step fails (preallocated).
     backup: State,
     /// The spin-rate warning was raised (once per solver).
@@ -124,6 +134,8 @@ struct Work {
     z: Vec<f64>,
     /// Saved state for a step that has to be split.
     save: [DVector<f64>; 5],
+    /// The lead `lag` before the step, for the same.
+    save_lag: Vec<f64>,
     /// Size of the step being iterated (0 for the initial accelerations), for messages.
     h_now: f64,
 }
@@ -173,6 +185,7 @@ impl Implicit {
                 z.clone(),
                 DVector::zeros(nc),
             ],
+            save_lag: vec![0.0; 6 * m.nexp],
             h_now: 0.0,
         };
         let mut s = Implicit {
@@ -185,7 +198,9 @@ impl Implicit {
             acc: z.clone(),
             a: z,
             lam: DVector::zeros(nc),
-            fresh: false,
+            jump: vec![0.0; 6 * m.nexp],
+            lag: vec![0.0; 6 * m.nexp],
+            shift: Loads::new(6 * m.nexp),
             backup: State {
                 method: Method::Implicit,
                 data: Vec::new(),
@@ -215,8 +230,7 @@ impl Implicit {
         let p = m.frame_of(self.q.as_slice());
         m.frame_matrices(&p, &mut w.mc, &mut w.kc);
         m.project_loads(&self.loads, self.t, &p, &mut w.f_r, &mut w.f_l);
-        w.kkt.clear();
-        fill_mass(m, &mut w.kkt);
+        held::mass_matrix(m, &mut w.kkt, &p);
         // Right side: the forces.
         let alpha = self.q.rows(nr, nl);
         let vl = self.v.rows(nr, nl);
@@ -240,33 +254,18 @@ impl Implicit {
             }
             w.res[nr + j] = s;
         }
+        // Constraint rows: the second time derivative of the constraints,
+        // `d.b = -|w|^2` per edge and `B a_12 - a_rot = -dB/dt v_12`.
         let sc = m.mass_scale;
         let v = self.v.as_slice();
         for (r, &(a, b, _)) in PAIRS.iter().enumerate() {
-            let d = edge(&p, a) - edge(&p, b);
             let wv = point_vec(v, a) - point_vec(v, b);
-            let (row, kr) = (nq + r, nr + r);
-            for c in 0..3 {
-                let (oa, ob) = (point_offset(a) + c, point_offset(b) + c);
-                *w.kkt.at(kr, oa) -= sc * d[c];
-                *w.kkt.at(kr, ob) += sc * d[c];
-                *w.kkt.at(oa, kr) -= sc * d[c];
-                *w.kkt.at(ob, kr) += sc * d[c];
-            }
-            w.res[row] = sc * wv.norm_squared();
+            w.res[nq + r] = sc * wv.norm_squared();
         }
         if m.irot {
-            let bm = omega_matrix(&p);
             let bd = omega_rate_from_frame(&p, v);
             for r in 0..3 {
-                let (row, kr) = (nq + 6 + r, nr + 6 + r);
-                for (i, &bri) in bm[r].iter().enumerate() {
-                    *w.kkt.at(kr, i) -= sc * bri;
-                    *w.kkt.at(i, kr) -= sc * bri;
-                }
-                *w.kkt.at(kr, 12 + r) += sc;
-                *w.kkt.at(12 + r, kr) += sc;
-                w.res[row] = sc * bd[r];
+                w.res[nq + 6 + r] = sc * bd[r];
             }
         }
         self.schur_solve(&p, 0.0, 0.0, true)?;
@@ -286,6 +285,7 @@ impl Implicit {
         w.save[2].copy_from(&self.acc);
         w.save[3].copy_from(&self.a);
         w.save[4].copy_from(&self.lam);
+        w.save_lag.copy_from_slice(&self.lag);
     }
 
     fn restore(&mut self, t: f64) {
@@ -295,33 +295,31 @@ impl Implicit {
         self.acc.copy_from(&w.save[2]);
         self.a.copy_from(&w.save[3]);
         self.lam.copy_from(&w.save[4]);
+        self.lag.copy_from_slice(&w.save_lag);
         self.p = self.m.frame_of(self.q.as_slice());
         self.t = t;
     }
 
     fn state_len(&self) -> usize {
-        2 + 4 * self.m.nq() + self.m.nc() + self.loads.state_len()
+        1 + 4 * self.m.nq() + self.m.nc() + self.loads.state_len() + 2 * self.jump.len()
     }
 
     /// The state into `d` (cleared first; no allocation once `d` has the capacity).
     fn write_state(&self, d: &mut Vec<f64>) {
         d.clear();
         d.push(self.t);
-        d.push(if self.fresh { 1.0 } else { 0.0 });
         d.extend_from_slice(self.q.as_slice());
         d.extend_from_slice(self.v.as_slice());
         d.extend_from_slice(self.acc.as_slice());
         d.extend_from_slice(self.a.as_slice());
         d.extend_from_slice(self.lam.as_slice());
         self.loads.save(d);
+        d.extend_from_slice(&self.jump);
+        d.extend_from_slice(&self.lag);
     }
 
     /// One communication step (no state restore on failure: [`Solver::step`] does it).
     fn run_step(&mut self, h: f64) -> Result<(), SolverError> {
-        if self.fresh {
-            self.initial_accelerations()?;
-            self.fresh = false;
-        }
         let t0 = self.t;
         let t_end = t0 + h;
         self.save();
@@ -331,14 +329,17 @@ impl Implicit {
             let n = 1usize << split;
             let dt = h / n as f64;
             let mut ok = true;
-            for _ in 0..n {
-                if let Err(e) = self.try_step(dt) {
+            for k in 0..n {
+                // The held load's jump before the first piece, the rate's lead before
+                // each (held.rs).
+                if let Err(e) = self.hold(dt, k == 0).and_then(|()| self.try_step(dt)) {
                     last = Some(e);
                     ok = false;
                     break;
                 }
             }
             if ok {
+                self.jump.fill(0.0);
                 self.t = t_end;
                 let err = frame_error(&self.p);
                 if err > MAX_FRAME_ERROR {
@@ -392,10 +393,8 @@ impl Solver for Implicit {
 
     fn set_loads(&mut self, loads: &[f64]) -> Result<(), SolverError> {
         self.m.check_loads("loads", loads)?;
+        self.note_jump(loads);
         self.loads.set(loads, self.t);
-        if self.t == 0.0 {
-            self.fresh = true;
-        }
         Ok(())
     }
 
@@ -421,15 +420,19 @@ impl Solver for Implicit {
         let (nq, nc) = (self.m.nq(), self.m.nc());
         let d = &state.data;
         self.t = d[0];
-        self.fresh = d[1] != 0.0;
-        let mut o = 2;
+        let mut o = 1;
         for x in [&mut self.q, &mut self.v, &mut self.acc, &mut self.a] {
             x.copy_from_slice(&d[o..o + nq]);
             o += nq;
         }
         self.lam.copy_from_slice(&d[o..o + nc]);
         o += nc;
-        self.loads.load(&d[o..]);
+        let nl = self.loads.state_len();
+        self.loads.load(&d[o..o + nl]);
+        o += nl;
+        let n = self.jump.len();
+        self.jump.copy_from_slice(&d[o..o + n]);
+        self.lag.copy_from_slice(&d[o + n..o + 2 * n]);
         self.p = self.m.frame_of(self.q.as_slice());
         Ok(())
     }

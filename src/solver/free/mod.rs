@@ -100,23 +100,29 @@ macro_rules! free_solver_sampled_velocity {
         fn kinetic_energy(&self) -> f64 {
             self.m.kinetic_energy(&self.v, &self.p)
         }
+
+        fn momentum(&self) -> Option<[f64; 3]> {
+            Some(self.m.momentum(&self.v, &self.p))
+        }
     };
 }
 
 pub mod explicit;
 pub mod implicit;
 mod lu;
+mod rotation;
 pub mod split;
 mod validity;
 
 pub use explicit::Explicit;
 pub use implicit::Implicit;
+pub(crate) use rotation::rotation_vector;
 pub use split::Split;
 pub use validity::{
     FRAME_RETRY_FRACTION, MAX_FRAME_ERROR, MAX_HALVINGS, SPIN_STEP, SPIN_WARN_RATIO,
 };
 pub(crate) use validity::{
-    SINGULAR_RATIO, frame_error, frame_invalid, singular_error, spin_warning,
+    SINGULAR_RATIO, frame_error, frame_invalid, overflow, singular_error, spin_warning,
 };
 
 /// Global initial coordinates of every node of a free body that comes without a node
@@ -528,6 +534,34 @@ impl Model {
                 .sum::<f64>()
     }
 
+    /// Linear momentum `s_c^T (M_R v_R + M_C(P) v_L)` for the three global axes c
+    /// ([`crate::solver::Solver::momentum`]); `s_c` moves the four frame points by
+    /// `e_c` and the rotational DOFs and modes not at all.
+    pub fn momentum(&self, v: &DVector<f64>, p: &Matrix3<f64>) -> [f64; 3] {
+        let (nr, nl) = (self.nr, self.nl);
+        let vr = &v.as_slice()[..nr];
+        let vl = &v.as_slice()[nr..nr + nl];
+        let mut out = [0.0; 3];
+        for (c, o) in out.iter_mut().enumerate() {
+            let rows = [c, 3 + c, 6 + c, 9 + c];
+            let mut s = 0.0;
+            for &i in &rows {
+                s += (0..nr).map(|k| self.m_r[(i, k)] * vr[k]).sum::<f64>();
+                for k in 0..3 {
+                    for l in 0..3 {
+                        let pkl = p[(k, l)];
+                        if pkl != 0.0 {
+                            let mc = &self.m_c_kl[3 * k + l];
+                            s += pkl * (0..nl).map(|j| mc[(i, j)] * vl[j]).sum::<f64>();
+                        }
+                    }
+                }
+            }
+            *o = s;
+        }
+        out
+    }
+
     /// Node vector field `sum_{i<12} r_i Phi_R,i(n)_trans + P sum_j l_j Phi_L,j(n)_trans`
     /// of exposed node `k` for a coordinate-like vector `x = [r; l]` (displacement,
     /// velocity or acceleration).
@@ -653,23 +687,6 @@ impl Model {
     pub fn check_loads(&self, what: &'static str, x: &[f64]) -> Result<(), SolverError> {
         super::loads::check(what, x, 6 * self.nexp)
     }
-}
-
-/// The rotation vector (axis times angle, angle in [0, pi]) of a rotation matrix, by
-/// way of the nearest unit quaternion `(w, v)`: `2 atan2(|v|, w) v / |v|`, accurate at
-/// small angles (where `acos` of the trace loses half the digits) and near pi.
-pub(crate) fn rotation_vector(r: &Matrix3<f64>) -> Vector3<f64> {
-    let q = nalgebra::UnitQuaternion::from_matrix(r);
-    let (mut w, mut v) = (q.scalar(), q.vector().into_owned());
-    if w < 0.0 {
-        w = -w;
-        v = -v;
-    }
-    let s = v.norm();
-    if s == 0.0 {
-        return Vector3::zeros();
-    }
-    v * (2.0 * s.atan2(w) / s)
 }
 
 /// `out = sum_i w_i blocks_i` entry by entry, the terms added in the order i = 0..9

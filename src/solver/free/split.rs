@@ -158,20 +158,10 @@ impl Split {
         };
         let w2: Vec<f64> = lam.iter().map(|&x| x.max(0.0)).collect();
         let omega: Vec<f64> = w2.iter().map(|x| x.sqrt()).collect();
-        // With zeta = 0 the added term is skipped, so the coefficients are bit for bit the
-        // Rayleigh ones.
-        let damp = w2
-            .iter()
-            .zip(&omega)
-            .map(|(&x, &w)| {
-                let rayleigh = m.ray_a + m.ray_b * x;
-                if zeta == 0.0 {
-                    rayleigh
-                } else {
-                    rayleigh + 2.0 * zeta * w
-                }
-            })
-            .collect();
+        // The modes of the split's own basis take the damping of their frequency (with
+        // zeta = 0 bit for bit the Rayleigh coefficients).
+        let damping = crate::solver::damping::LocalDamping::new(&scene.body, zeta)?;
+        let damp = omega.iter().map(|&w| damping.modal(w)).collect();
         let c = Consts {
             m_r: m.m_r.transpose().as_slice().to_vec(),
             s,

@@ -22,16 +22,28 @@ pub(crate) const SINGULAR_RATIO: f64 = 1e-13;
 /// the step, spin rate or load is what made the system singular, and the message says so
 /// with the figures instead of blaming the geometry.
 pub(crate) fn singular_error(ratio: f64, dt: f64, spin: f64) -> SolverError {
+    if ratio.is_nan() || !spin.is_finite() {
+        // Not a singular system: its numbers overflowed (NaN pivots), and neither the
+        // ratio nor the spin is a figure worth printing.
+        return overflow("the rigid-motion saddle-point system");
+    }
     let what = format!(
         "the rigid-motion saddle-point system is singular (pivot ratio {}, condition \
          above {})",
         num(ratio),
         num(1.0 / ratio)
     );
-    if dt == 0.0 {
+    if dt == 0.0 && spin == 0.0 {
         return SolverError::Singular(format!(
             "{what} before any step: a body whose nodes all lie on one line has \
              no inertia about that line"
+        ));
+    }
+    if dt == 0.0 {
+        return SolverError::Singular(format!(
+            "{what} before any step, at the initial spin rate {} rad/s: the spin is too \
+             large for the frame constraints; start the body with a smaller w0",
+            num(spin)
         ));
     }
     SolverError::Singular(format!(
@@ -81,9 +93,25 @@ pub(crate) fn frame_error(p: &Matrix3<f64>) -> f64 {
     if e.is_nan() { f64::INFINITY } else { e }
 }
 
+/// The refusal of a step whose numbers overflowed (`what` became non-finite): the cause
+/// is a load or parameter too large for the body, not the step or the frame, whose
+/// figures would read inf or NaN.
+pub(crate) fn overflow(what: &str) -> SolverError {
+    SolverError::NonFinite {
+        what: what.into(),
+        cause: "its numbers overflow: the loads, gravity, initial velocity or spin rate are \
+                too large for this body"
+            .into(),
+    }
+}
+
 /// The refusal of a step that would leave the frame no longer a rotation, with the
-/// advice that fits the method (`advice`: what the user can change).
+/// advice that fits the method (`advice`: what the user can change); a frame or spin rate
+/// that overflowed is [`overflow`] instead.
 pub(crate) fn frame_invalid(err: f64, h: f64, spin: f64, advice: &str) -> SolverError {
+    if !(err.is_finite() && spin.is_finite()) {
+        return overflow("the body frame");
+    }
     SolverError::Invalid(format!(
         "the step of {} s would leave the body frame no longer a rotation (|P^T P - I| = \
          {}, more than {}) at spin rate {} rad/s; the step was refused and the state is as \

@@ -356,10 +356,11 @@ fn subnormal_local_mass_is_refused() {
 
 #[test]
 fn body_stable_step_comes_from_the_computed_frequency() {
-    // Stored Freq 1e-98 (a warning only): the step comes from the computed frequency,
-    // the same value the explicit solver uses.
+    // Stored Freq 1e98 (above every mode, as OpenRadioss's cut-off is: a warning only;
+    // far below them is a corrupt file, refused): the step comes from the computed
+    // frequency, the same value the explicit solver uses.
     let mut f = read("fmt_fixed.fxb");
-    f.freq = 1e-98;
+    f.freq = 1e98;
     let b = Body::from_fxb(&f, "b.fxb").unwrap();
     let beta = b.damping.map_or(0.0, |d| d.beta);
     let want = fxbody::body::stable_step(b.frequencies_hz[1], beta);
@@ -372,7 +373,7 @@ fn body_stable_step_comes_from_the_computed_frequency() {
     assert_eq!(b.warnings.len(), 1);
     // The stored value is printed compactly, not with 98 zeros.
     assert!(
-        b.warnings[0].contains("stored Freq = 1e-98 Hz"),
+        b.warnings[0].contains("stored Freq = 1e98 Hz"),
         "{}",
         b.warnings[0]
     );

@@ -138,12 +138,13 @@ fn variables_follow_the_interface_names() {
         assert!(fnames.contains(&n), "{n}");
     }
     // `method` is an Integer 1..4 (issue 15: libcosim and ecos ignore Enumerations), its
-    // description names every value; a free body marks exact as refused.
+    // description names every value; a free body marks exact as refused. Defaults:
+    // exact blocked (3), split free (4).
     assert!(!p.xml.contains("Enumeration") && !free.xml.contains("Enumeration"));
     assert!(p.xml.contains("<Integer min=\"1\" max=\"4\" start=\"3\"/>"));
     assert!(
         free.xml
-            .contains("<Integer min=\"1\" max=\"4\" start=\"2\"/>")
+            .contains("<Integer min=\"1\" max=\"4\" start=\"4\"/>")
     );
     let desc = |t: &fxbody::fmu::vars::VarTable| t.vars[0].description.clone();
     for v in ["1 = explicit", "2 = implicit", "3 = exact", "4 = split"] {

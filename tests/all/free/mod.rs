@@ -3,6 +3,7 @@
 
 mod explicit;
 mod fe_reference;
+mod held_loads;
 mod implicit;
 mod radioss_differences;
 mod rotations;

@@ -92,3 +92,56 @@ fn rigid_spin_gives_w0_and_w0_t_at_every_node() {
         }
     }
 }
+
+/// Issue 28, point 9: the rotation output's angle is at most pi, so on a steady spin it
+/// jumps from about pi n to about -pi n once a turn, which the variable's description
+/// says. The beam spun at 3 rad/s about its own axis n for 5 s (15 rad: it passes pi and
+/// 3 pi): between samples 10 ms apart the rotation vector moves by |w0| h = 0.03 except
+/// at a jump, where it moves by about 2 pi along n; the jumps come where w0 t passes
+/// pi, 3 pi, ... (to one sample), and the description of `rx` names it.
+#[test]
+fn the_rotation_vector_jumps_at_pi_as_its_description_says() {
+    let mut sc = fixture_scene("freefree", &[521]);
+    let axis = sc.body.p0.column(0).into_owned();
+    let w0 = axis * 3.0;
+    sc.w0 = [w0[0], w0[1], w0[2]];
+    let mut s = build(&sc, Method::Split, &Options::default()).unwrap();
+    let h = 0.01;
+    let mut r = [0.0; 3];
+    s.rotations(&mut r);
+    let mut jumps = Vec::new();
+    for i in 1..=500 {
+        let before = nalgebra::Vector3::from(r);
+        s.step(h).unwrap();
+        s.rotations(&mut r);
+        let d = nalgebra::Vector3::from(r) - before;
+        if d.norm() > 1.0 {
+            // Along the axis, by 2 pi less the step's own turn.
+            assert!((d.dot(&axis).abs() - (2.0 * std::f64::consts::PI - 0.03)).abs() < 0.05);
+            jumps.push(i as f64 * h);
+        } else {
+            assert!((d.norm() - 0.03).abs() < 1e-3, "step {i}: {}", d.norm());
+        }
+    }
+    let pi = std::f64::consts::PI;
+    println!(
+        "jumps at t = {jumps:?} s (w0 t = pi at {:.3} s, 3 pi at {:.3} s)",
+        pi / 3.0,
+        pi
+    );
+    assert_eq!(jumps.len(), 2, "{jumps:?}");
+    for (t, want) in jumps.iter().zip([pi / 3.0, pi]) {
+        assert!(
+            (t - want).abs() <= h,
+            "jump at {t} s, w0 t = pi at {want} s"
+        );
+    }
+    let table = fxbody::fmu::vars::VarTable::new(&sc);
+    let rx = table.vars.iter().find(|v| v.name == "node_521.rx").unwrap();
+    assert!(
+        rx.description
+            .contains("jumps from about pi n to about -pi n"),
+        "{}",
+        rx.description
+    );
+}

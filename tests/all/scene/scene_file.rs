@@ -149,6 +149,18 @@ fn resources_run_bit_for_bit_as_the_fxb_on_every_fixture_and_method() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// The log of an fmi2Instantiate of `fx` that must fail (`what` names the case).
+fn refused_log(fx: &crate::common::fmu::Packed, what: &str) -> String {
+    match Slave::try_new(fx, "damaged") {
+        Ok(_) => panic!("{what}: instantiated"),
+        Err(m) => m
+            .iter()
+            .map(|m| m.text.as_str())
+            .collect::<Vec<_>>()
+            .join("\n"),
+    }
+}
+
 /// A file of the cantilever scene and how each damage to it is refused at
 /// fmi2Instantiate: the logged error names the file and the cause.
 #[test]
@@ -241,7 +253,7 @@ fn every_damaged_scene_file_is_refused_at_instantiation_with_its_reason() {
                 b[24..32].copy_from_slice(&sum);
                 b
             },
-            "section MASS: local mass -1: expected > 0",
+            "section MASS (local mass m_L): every m_L must be > 0, found m_L(1) = -1",
         ),
         (
             "a negative Rayleigh beta, checksum recomputed",
@@ -254,20 +266,12 @@ fn every_damaged_scene_file_is_refused_at_instantiation_with_its_reason() {
                 b[24..32].copy_from_slice(&sum);
                 b
             },
-            "section BODY: Rayleigh alpha 0, beta -0.0001: expected >= 0",
+            "section BODY: Rayleigh alpha 0, beta -0.0001 without the damping flag",
         ),
     ];
     for (what, bytes, want) in damage {
         std::fs::write(&path, &bytes).unwrap();
-        let msgs = match Slave::try_new(&fx, "damaged") {
-            Ok(_) => panic!("{what}: instantiated"),
-            Err(m) => m,
-        };
-        let text = msgs
-            .iter()
-            .map(|m| m.text.as_str())
-            .collect::<Vec<_>>()
-            .join("\n");
+        let text = refused_log(&fx, what);
         println!("{what}: {text}");
         assert!(
             text.starts_with("fmi2Instantiate: ")
@@ -363,4 +367,227 @@ fn embed_source_adds_the_body_file_and_nothing_else_changes() {
         .unwrap()
         .1;
     assert_eq!(source, &std::fs::read(fixture("cantilever.fxb")).unwrap());
+}
+
+/// A packed scene edited through the crate's own reader and writer (so the checksum is
+/// recomputed: the file is intact, its numbers are not), written into `dir`'s resources
+/// in place of the packed one; the refusal `Model::from_resources` (what fmi2Instantiate
+/// runs) gives, or `None` when the scene was accepted.
+fn refusal_of(
+    dir: &Path,
+    good: &[u8],
+    edit: impl FnOnce(&mut fxbody::scene::Scene, &mut fxbody::body::Body),
+) -> Option<String> {
+    use std::sync::Arc;
+    let mut scene = fxbody::fmu::scenefile::from_bytes(good, "good")
+        .unwrap()
+        .scene;
+    let mut body = (*scene.body).clone();
+    edit(&mut scene, &mut body);
+    scene.body = Arc::new(body);
+    let path = dir.join("resources").join(SCENE_FILE);
+    std::fs::write(&path, fxbody::fmu::scenefile::to_bytes(&scene)).unwrap();
+    Model::from_resources(&dir.join("resources"))
+        .err()
+        .map(|e| e.to_string())
+}
+
+/// Issue 28, point 7: a scene file whose checksum holds but whose numbers make no body
+/// is refused at instantiation by the same physical checks as `pack` runs on a `.fxb`
+/// file, each naming the section and the value: P0 a reflection (which every method
+/// ran with), P0 = 0, sheared or 3 I; a negative Rayleigh coefficient; K_L indefinite (with its modes solved again, and
+/// with the stored modes left as they were); an eigenvalue negative or subnormal in the
+/// MODE section; the stored mode shapes scaled by 1e3; m_L = 5e-324; the stored Freq
+/// four orders below the modes; on the free beam, the rigid-mode rows zero; on a
+/// truncated cantilever, the residual flexibility negated, made asymmetric, or scaled
+/// by 1e300; and a scene with no exposed node. Each edit is checked to be accepted
+/// before it is applied (the unedited scene instantiates), and one refusal is read
+/// through fmi2Instantiate's log as a master sees it.
+#[test]
+fn a_scene_file_is_checked_like_a_body_at_instantiation() {
+    use nalgebra::Matrix3;
+    let root = std::env::temp_dir().join(format!("fxbody_scene_physics_{}", std::process::id()));
+    let setups = [
+        ("cantilever", prepared("cantilever", false)),
+        ("freefree", prepared("freefree", false)),
+        ("cantilever cut", prepared("cantilever", true)),
+    ];
+    type Edit = Box<dyn Fn(&mut fxbody::scene::Scene, &mut fxbody::body::Body)>;
+    let mut checked = 0;
+    for (name, p) in setups {
+        let dir = root.join(name.replace(' ', "_"));
+        write_resources(&p, &dir);
+        let good = std::fs::read(dir.join("resources").join(SCENE_FILE)).unwrap();
+        assert!(
+            refusal_of(&dir, &good, |_, _| {}).is_none(),
+            "{name}: the scene as packed is refused"
+        );
+        let mut cases: Vec<(&str, Edit, Vec<&str>)> = vec![
+            (
+                "P0 a reflection",
+                Box::new(|_, b| {
+                    let mut c = b.p0.column_mut(2);
+                    c.neg_mut();
+                }),
+                vec!["section BODY (initial frame P0 and Freq)", "(a reflection)"],
+            ),
+            (
+                "P0 = 0",
+                Box::new(|_, b| b.p0 = Matrix3::zeros()),
+                vec![
+                    "section BODY",
+                    "P0 must be a rotation",
+                    "max |P0^T P0 - I| = 1",
+                ],
+            ),
+            (
+                "P0 sheared",
+                Box::new(|_, b| b.p0[(0, 1)] += 0.1),
+                vec!["section BODY", "P0 must be a rotation"],
+            ),
+            (
+                "P0 = 3 I",
+                Box::new(|_, b| b.p0 = Matrix3::identity() * 3.0),
+                vec!["section BODY", "max |P0^T P0 - I| = 8"],
+            ),
+            (
+                "a negative Rayleigh beta",
+                Box::new(|_, b| {
+                    b.damping = Some(fxbody::body::Rayleigh {
+                        alpha: 0.0,
+                        beta: -1e-4,
+                    })
+                }),
+                vec!["section BODY (Rayleigh damping): beta must be >= 0, found beta = -0.0001"],
+            ),
+            (
+                "m_L(1) = 5e-324",
+                Box::new(|_, b| b.m_l[0] = 5e-324),
+                vec![
+                    "section MASS (local mass m_L)",
+                    "m_L(1) = 5e-324 is too small",
+                ],
+            ),
+            (
+                "the stored mode shapes x 1e3",
+                Box::new(|_, b| b.modal.shapes *= 1e3),
+                vec!["section", "MODE", "S^T diag(m_L) S - I is"],
+            ),
+            (
+                "a negative eigenvalue in MODE",
+                Box::new(|_, b| {
+                    let j = b.modal.ascending[0];
+                    b.modal.lambda[j] = -b.modal.lambda[j];
+                }),
+                vec!["MODE", "S^T K_L S - Lambda is"],
+            ),
+            (
+                "a subnormal eigenvalue in MODE",
+                Box::new(|_, b| {
+                    let j = b.modal.ascending[0];
+                    b.modal.lambda[j] = 5e-324;
+                }),
+                vec!["MODE", "S^T K_L S - Lambda is"],
+            ),
+            (
+                "K_L indefinite, modes left",
+                Box::new(|_, b| {
+                    let j = b.nl() - 1;
+                    b.k_l[(j, j)] = -b.k_l[(j, j)];
+                }),
+                vec!["MODE", "the stored modes are not the modes of (K_L, m_L)"],
+            ),
+            (
+                "K_L indefinite, modes solved again",
+                Box::new(|_, b| {
+                    let j = b.nl() - 1;
+                    b.k_l[(j, j)] = -b.k_l[(j, j)];
+                    b.solve_modes();
+                }),
+                vec![
+                    "section STIF (local stiffness K_L)",
+                    "K_L must be positive semi-definite, found the eigenvalue -",
+                ],
+            ),
+            (
+                "Freq four orders below the modes",
+                Box::new(|_, b| b.freq_file = b.freq_max_hz() * 1e-4),
+                vec![
+                    "sections MASS and STIF",
+                    "times the stored Freq",
+                    "(more than 1000)",
+                    "corrupt",
+                ],
+            ),
+            (
+                "no exposed node",
+                Box::new(|s, _| {
+                    s.nodes.clear();
+                    s.x0.clear();
+                    s.residual = None;
+                }),
+                vec!["section NODE: no exposed node"],
+            ),
+        ];
+        if name == "freefree" {
+            cases.push((
+                "rigid-mode rows zero",
+                Box::new(|_, b| b.phi_r.fill(0.0)),
+                vec!["section PHIR", "rigid mode 10, row 1, is 0, expected 1"],
+            ));
+        }
+        if name == "cantilever cut" {
+            use fxbody::reduce::Residual;
+            use std::sync::Arc;
+            let edit_r = |f: fn(&mut nalgebra::DMatrix<f64>)| -> Edit {
+                Box::new(move |s, _| {
+                    let old = s.residual.as_ref().unwrap();
+                    let mut r = old.r.clone();
+                    f(&mut r);
+                    s.residual = Some(Arc::new(Residual {
+                        r,
+                        dropped: old.dropped,
+                    }));
+                })
+            };
+            cases.push((
+                "residual flexibility negated",
+                edit_r(|r| r.neg_mut()),
+                vec!["section RESI", "not positive semi-definite: eigenvalue -"],
+            ));
+            cases.push((
+                "residual flexibility asymmetric",
+                edit_r(|r| r[(0, 1)] += 0.5 * r.amax()),
+                vec!["section RESI", "not symmetric"],
+            ));
+            cases.push((
+                "residual flexibility x 1e300",
+                edit_r(|r| *r *= 1e300),
+                vec!["section RESI", "absurdly scaled"],
+            ));
+        }
+        for (what, edit, says) in cases {
+            let got = refusal_of(&dir, &good, |s, b| edit(s, b))
+                .unwrap_or_else(|| panic!("{name}, {what}: accepted"));
+            println!("{name}, {what}: {got}");
+            for w in says {
+                assert!(got.contains(w), "{name}, {what}: '{got}' lacks '{w}'");
+            }
+            checked += 1;
+        }
+    }
+    assert_eq!(checked, 13 * 3 + 1 + 3);
+    // The same refusal through the C ABI, as a master's log shows it.
+    let fx = packed("scene_physics_abi");
+    let path = fx.dir.join("resources").join(SCENE_FILE);
+    let good = std::fs::read(&path).unwrap();
+    refusal_of(&fx.dir, &good, |_, b| b.m_l[0] = 5e-324).unwrap();
+    let text = refused_log(&fx, "m_L = 5e-324");
+    assert!(
+        text.starts_with("fmi2Instantiate: ")
+            && text.contains("section MASS")
+            && text.contains("5e-324"),
+        "{text}"
+    );
+    let _ = std::fs::remove_dir_all(&root);
 }

@@ -80,16 +80,15 @@ fn implicit_amplification(rho: f64, wh: f64) -> Matrix3<f64> {
     let scale = [1.0, w, w * w];
     let mut amp = Matrix3::zeros();
     for j in 0..3 {
-        // Layout: time, t_set, 6 loads, 6 rates, started, modal y, y', y'' (one mode:
-        // y = sqrt(m) q, the same factor for all three, so the ratios are those of q).
+        // Layout: time, t_set, 6 loads, 6 rates, modal y, y', y'' (one mode: y = sqrt(m)
+        // q, the same factor for all three, so the ratios are those of q).
         let mut st: State = base.clone();
-        st.data[14] = 1.0;
-        st.data[15 + j] = scale[j];
+        st.data[14 + j] = scale[j];
         s.set_state(&st).unwrap();
         s.step(wh / w).unwrap();
         let out = s.state();
         for i in 0..3 {
-            amp[(i, j)] = out.data[15 + i] / scale[i];
+            amp[(i, j)] = out.data[14 + i] / scale[i];
         }
     }
     amp
@@ -167,9 +166,8 @@ fn implicit_spectral_radius_and_stability_at_large_steps() {
         let mut st = s.state();
         // Modal state y = sqrt(m) q: q = +-1 (sign of the mode), y'' = -w^2 y.
         let y0 = 2.0f64.sqrt();
-        st.data[14] = 1.0;
-        st.data[15] = y0;
-        st.data[17] = -w * w * y0;
+        st.data[14] = y0;
+        st.data[16] = -w * w * y0;
         s.set_state(&st).unwrap();
         let mut big = 0.0f64;
         for _ in 0..1000 {
@@ -241,8 +239,14 @@ fn energy_over_a_million_steps() {
     assert!(dev < 1e-6, "{dev}");
     let (dev, drift, up) = energy_history(Method::Implicit, &Options::default(), 0.2, n);
     println!("implicit rho_inf 0.9: max deviation {dev:.3e}, change {drift:.3e}, rise {up:.1e}");
-    // rho_inf < 1 dissipates: the energy never rises above the start (1e-9).
-    assert!(up < 1e-9, "{up}");
+    // rho_inf < 1 dissipates: the mean energy of the last tenth is a third below the
+    // first tenth's (measured 0.31 lower), and it never rises above the start by more
+    // than the scheme's oscillation of the physical energy in the first steps after the
+    // release (measured 3.9e-5 at omega_max h = 0.4: the algorithmic acceleration, not
+    // the physical energy, is what generalised-alpha makes decrease; with the load's
+    // impulse integrated exactly, no longer half a step short at the release, the first
+    // steps show it).
+    assert!(drift > 0.25 && up < 1e-4, "{drift} {up}");
 }
 
 fn run(s: &mut dyn Solver, k: usize) -> Vec<f64> {

@@ -3,6 +3,7 @@
 mod damping_ratio;
 mod exact;
 mod fe_reference;
+mod held_loads;
 mod integrators;
 mod outputs;
 mod rotations;

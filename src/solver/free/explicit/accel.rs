@@ -6,7 +6,8 @@
 use nalgebra::Matrix3;
 
 use super::super::{
-    PAIRS, SINGULAR_RATIO, edge, frame_omega, omega_matrix, point_offset, point_vec, singular_error,
+    PAIRS, SINGULAR_RATIO, edge, frame_omega, omega_matrix, overflow, point_offset, point_vec,
+    singular_error,
 };
 use super::Explicit;
 use crate::solver::SolverError;
@@ -117,9 +118,7 @@ impl Explicit {
             }
         }
         if w.a.iter().any(|x| !x.is_finite()) {
-            return Err(SolverError::Singular(
-                "accelerations are not finite (loads or step too large?)".into(),
-            ));
+            return Err(overflow("the accelerations"));
         }
         w.a_valid = true;
         Ok(())

@@ -39,6 +39,11 @@ impl Explicit {
             self.substep(d)?;
             count += 1.0;
             let err = frame_error(&self.p);
+            if !err.is_finite() {
+                // Overflow: no halving brings the numbers back.
+                self.restore_substep();
+                return Err(frame_invalid(err, h, self.spin_rate(), ""));
+            }
             if err > retry && level < MAX_HALVINGS {
                 self.restore_substep();
                 if level == 0 {

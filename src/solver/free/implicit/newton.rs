@@ -11,7 +11,8 @@ use super::super::{
 use super::{Implicit, Params, fill_mass};
 use crate::solver::SolverError;
 
-/// Newton tolerance on the frame constraints `|d|^2 - c` (dimensionless).
+/// Newton tolerance on the frame constraints `|d|^2 - c` (dimensionless), per unit of the
+/// largest frame-point displacement when that exceeds 1.
 const TOL_CONSTRAINT: f64 = 1e-13;
 /// Newton tolerance on the relative acceleration update.
 const TOL_ACC: f64 = 1e-11;
@@ -178,9 +179,12 @@ impl Implicit {
             // Converged when the update is negligible (relative to the accelerations, or
             // as a position change: near round-off of the coordinates, whatever the
             // conditioning of the body) and the frame constraints hold.
+            // The frame's edges are differences of frame-point coordinates: far from the
+            // start (|q| of 1e3 and more) they carry |q| eps of round-off, which the
+            // constraint tolerance must allow.
             let qscale = self.q.amax().max(1.0);
             let small = dmax <= TOL_ACC * xmax || dmax * bt <= TOL_POS * qscale;
-            if small && cmax <= TOL_CONSTRAINT {
+            if small && cmax <= TOL_CONSTRAINT * qscale {
                 converged = true;
                 break;
             }
@@ -230,7 +234,11 @@ impl Implicit {
         let m = &self.m;
         let w = &mut self.w;
         let (nr, nl, nq, nc) = (m.nr, m.nl, m.nq(), m.nc());
-        if refresh && w.lkey != (bt, gt) {
+        // The mass matrix alone (initial accelerations, the jump of a held load): its
+        // local block is diag(m_L), eliminated by division, and the factorisation kept
+        // for the step size is left alone.
+        let mass_only = bt == 0.0 && gt == 0.0;
+        if refresh && !mass_only && w.lkey != (bt, gt) {
             // Invalidate first: a factorisation that fails below must not be taken for
             // the matrix of the old key by a later call.
             w.lkey = super::super::NO_KEY;
@@ -267,7 +275,14 @@ impl Implicit {
             }
             w.lkey = (bt, gt);
         }
-        if refresh {
+        if refresh && mass_only {
+            // Y = diag(m_L)^-1 M_C^T for the current M_C.
+            for i in 0..nr {
+                for j in 0..nl {
+                    w.y[(j, i)] = w.mc[(i, j)] / m.m_l[j];
+                }
+            }
+        } else if refresh {
             // Y = L^-1 M_C^T with M_C = sum P_kl M_C,kl.
             w.y.fill(0.0);
             for k in 0..3 {
@@ -282,6 +297,8 @@ impl Implicit {
                     }
                 }
             }
+        }
+        if refresh {
             // A_RL = M_C + bt K_C, row-major.
             for i in 0..nr {
                 for j in 0..nl {
@@ -307,7 +324,13 @@ impl Implicit {
         }
         // z = L^-1 r_L.
         w.z.copy_from_slice(&w.res[nr..nq]);
-        w.lfac.solve(&mut w.z);
+        if mass_only {
+            for (z, &mj) in w.z.iter_mut().zip(m.m_l.iter()) {
+                *z /= mj;
+            }
+        } else {
+            w.lfac.solve(&mut w.z);
+        }
         // Reduced system: (A_RR - A_RL Y) dx_R - A^T dl = r_R - A_RL z.
         for i in 0..nr {
             let mut r = w.res[i];
