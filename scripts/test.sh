@@ -59,7 +59,7 @@ if [ ! -x .venv-nastran/bin/python ] || ! cmp -s requirements-nastran.txt .venv-
 fi
 export FXBODY_NASTRAN_PYTHON="$PWD/.venv-nastran/bin/python"
 
-# CalculiX, the FE solver the whole-model tests check against (crates/sparse/tests/ccx.rs).
+# CalculiX, the FE solver the whole-model tests check against (crates/import/tests/all/ccx.rs).
 bash scripts/setup-fe.sh
 
 cargo fmt --all --check
@@ -91,7 +91,7 @@ for variant in "OPENBLAS_CORETYPE=Prescott OPENBLAS_NUM_THREADS=1 FXBODY_IMPORT_
     # shellcheck disable=SC2086 # the variant is a list of assignments for env
     env $variant .venv/bin/python -m pytest -q -p no:cacheprovider "${REGENERATION[@]}"
     # shellcheck disable=SC2086
-    env $variant cargo test --release -q -p fxbody --lib import::dense
+    env $variant cargo test --release -q -p fxbody-import --lib dense
     # shellcheck disable=SC2086
     env $variant cargo test --release -q -p fxbody --test all fmi::model_description
 done

@@ -1,4 +1,4 @@
-//! `fxbody import`: build a `.fxb` body from FE matrices ([`fxbody::import`]).
+//! `fxbody import`: build a `.fxb` body from FE matrices ([`fxbody_import`]).
 //!
 //! `fxbody import model.pch --coords nodes.csv -o body.fxb` (Nastran DMIG KAAX/MAAX), or
 //! `fxbody import --stiffness K.mtx --mass M.mtx [--dof-map job.dof] --coords ... -o
@@ -8,9 +8,9 @@
 
 use std::path::{Path, PathBuf};
 
-use fxbody::fe::{self, SymMatrix};
 use fxbody::fxb;
-use fxbody::import::{self, Options, Support, Units};
+use fxbody_import::fe::{self, SymMatrix};
+use fxbody_import::{Options, Support, Units};
 
 /// Arguments of `import`.
 #[derive(Debug, clap::Args)]
@@ -148,8 +148,8 @@ pub fn run(args: &ImportArgs) -> Result<(), String> {
         .coords
         .as_ref()
         .map_or_else(String::new, |p| p.display().to_string());
-    let built =
-        import::build(&k, &m, coords.as_ref(), &coords_name, &opts).map_err(|e| e.to_string())?;
+    let built = fxbody_import::build(&k, &m, coords.as_ref(), &coords_name, &opts)
+        .map_err(|e| e.to_string())?;
     let mut out = built.report.text();
     if let Some(path) = &args.report {
         let text = serde_json::to_string_pretty(&built.report.json())
