@@ -26,5 +26,3 @@ pub mod num;
 pub mod reduce;
 pub mod scene;
 pub mod solver;
-#[cfg(test)]
-mod testing;

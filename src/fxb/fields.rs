@@ -611,7 +611,8 @@ mod tests {
         ] {
             check(t);
         }
-        let mut next = crate::testing::xorshift(0x9e37_79b9_7f4a_7c15u64);
+        let mut rng = fxbody_testkit::Rng::new(0x9e37_79b9_7f4a_7c15);
+        let mut next = || rng.next_u64();
         for _ in 0..200_000 {
             let r = next();
             let digits = 1 + (r % 22) as usize;

@@ -23,36 +23,11 @@ use faer::linalg::evd::{self, ComputeEigenvectors};
 use faer::linalg::triangular_solve::{
     solve_lower_triangular_in_place, solve_upper_triangular_in_place,
 };
-use faer::{Accum, Auto, Mat, MatRef, Par, Spec};
+use faer::{Accum, Auto, Mat, MatRef, Spec};
 use nalgebra::DMatrix;
 
 use super::tridiag::Tridiagonal;
-
-/// Threads every faer call of an import works with, unless `FXBODY_IMPORT_THREADS`
-/// says otherwise (1 to 64; anything else is ignored). faer splits its blocked work by
-/// this count, so the rounding of a result depends on it; fixing it (instead of faer's
-/// default of every core) makes an import repeat bit for bit on one machine whatever
-/// the size of the thread pool (tested). It does not make it repeat across machines:
-/// faer picks its SIMD kernels (AVX2, AVX-512) when it runs, per CPU, and those round
-/// differently, so two CPUs write files that differ in their last digits; no test
-/// compares an imported file's bytes with a committed one (scripts/test.sh imports
-/// at one and two threads). Two is what CI and these machines have: measured on the
-/// 3000-DOF free grillage, quiet machine, the eigen-solve 6.3 s -> 3.4 s.
-const THREADS: usize = 2;
-
-/// The thread count of [`THREADS`], or `FXBODY_IMPORT_THREADS` when it is 1 to 64.
-fn threads() -> usize {
-    std::env::var("FXBODY_IMPORT_THREADS")
-        .ok()
-        .and_then(|v| v.trim().parse().ok())
-        .filter(|n| (1..=64).contains(n))
-        .unwrap_or(THREADS)
-}
-
-/// The parallelism of every faer call here (see [`THREADS`]); never faer's global one.
-fn par() -> Par {
-    Par::rayon(threads())
-}
+use crate::par::par;
 
 fn to_faer(a: &DMatrix<f64>) -> Mat<f64> {
     Mat::from_fn(a.nrows(), a.ncols(), |i, j| a[(i, j)])
@@ -83,6 +58,21 @@ fn evd_scaled(
 ) -> Option<(Vec<f64>, Mat<f64>)> {
     let n = a.nrows();
     let scaled = Mat::from_fn(n, n, |i, j| a[(i, j)] * s);
+    evd_of_scaled(scaled.as_ref(), s, vectors)
+}
+
+/// The one call of faer's dense symmetric eigen-solver in this crate (the dense import,
+/// and the projected matrices of the sparse path): the eigen-decomposition of `scaled`,
+/// which is `s A` (its lower triangle read), with [`par`]. Returns A's eigenvalues (those
+/// of `scaled` divided by `s`), ascending, and the eigenvectors when `vectors` asks.
+/// Scale A to a norm near 1 first: the solver's root finder stops on an absolute
+/// tolerance (the module text).
+pub(crate) fn evd_of_scaled(
+    scaled: MatRef<'_, f64>,
+    s: f64,
+    vectors: ComputeEigenvectors,
+) -> Option<(Vec<f64>, Mat<f64>)> {
+    let n = scaled.nrows();
     let want = matches!(vectors, ComputeEigenvectors::Yes);
     let mut u = Mat::<f64>::zeros(if want { n } else { 0 }, if want { n } else { 0 });
     let mut d = Diag::<f64>::zeros(n);
@@ -93,7 +83,7 @@ fn evd_scaled(
         Default::default(),
     ));
     evd::self_adjoint_evd(
-        scaled.as_ref(),
+        scaled,
         d.as_mut(),
         want.then(|| u.as_mut()),
         par(),
@@ -367,31 +357,22 @@ mod tests {
     use nalgebra::SymmetricEigen;
 
     fn spd(n: usize, seed: u64) -> DMatrix<f64> {
-        let mut s = seed;
-        let mut r = || {
-            s = s
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+        let mut rng = fxbody_testkit::Rng::new(seed);
+        let mut r = || rng.uniform() - 0.5;
         let b = DMatrix::from_fn(n, n, |_, _| r());
         b.transpose() * &b + DMatrix::identity(n, n) * 0.1
     }
 
     /// The same bits whatever the thread pool, on this machine: faer splits its work by
-    /// [`THREADS`], not by the pool's size, so an import repeats bit for bit on one CPU
-    /// (not across CPUs: faer's SIMD kernels are chosen per CPU; see [`THREADS`]).
+    /// [`crate::par::threads`], not by the pool's size, so an import repeats bit for bit
+    /// on one CPU (not across CPUs: faer's SIMD kernels are chosen per CPU).
     /// Sizes past faer's blocking thresholds, so that its parallel paths run.
     #[test]
     fn results_do_not_depend_on_the_pool() {
         let a = spd(400, 7);
         let b = spd(400, 11);
         let run = |threads: usize| {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap();
-            pool.install(|| {
+            fxbody_testkit::in_pool(threads, || {
                 let (d, v) = sym_eigen(&a).unwrap();
                 let l = cholesky(&b).unwrap();
                 let c = congruence_inverse(&l, &a);

@@ -33,6 +33,7 @@ pub mod dense;
 pub mod dofs;
 pub mod fe;
 pub mod modes;
+pub mod par;
 pub mod report;
 pub mod rigid;
 pub mod scale;

@@ -54,7 +54,7 @@
 //! connections are exact and every frequency below `fmax` is the full model's.
 //!
 //! # Determinism
-//! Every parallel step is split in a fixed way ([`par`]): faer's calls run at a fixed two
+//! Every parallel step is split in a fixed way ([`crate::par`]): faer's calls run at a fixed two
 //! threads, solves and tall products are cut in two fixed halves. The results are the
 //! same bits whatever the rayon pool (tested with 1, 2 and 3 threads).
 //!
@@ -70,7 +70,6 @@ pub mod eigen;
 pub mod error;
 pub mod factor;
 pub mod lanczos;
-pub mod par;
 pub mod rigid;
 pub mod statics;
 pub mod terms;

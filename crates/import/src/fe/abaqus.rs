@@ -35,14 +35,12 @@ pub fn parse_abaqus(reader: impl BufRead, file: &str, name: String) -> Result<Sy
             continue;
         }
         if t.starts_with(b"*") {
-            return Err(FeError::syntax(
+            return Err(FeError::matrix_line(
                 file,
                 ln,
-                None,
                 t,
-                "a matrix line",
-                "node, dof, node, dof, value (a keyword line has no place in a \
-                 *MATRIX OUTPUT file)",
+                "node, dof, node, dof, value (a keyword line has no place in a *MATRIX \
+                 OUTPUT file)",
             ));
         }
         let mut count = 0;
@@ -65,12 +63,10 @@ pub fn parse_abaqus(reader: impl BufRead, file: &str, name: String) -> Result<Sy
             } else {
                 ""
             };
-            return Err(FeError::syntax(
+            return Err(FeError::matrix_line(
                 file,
                 ln,
-                None,
                 line,
-                "a matrix line",
                 format!(
                     "5 comma-separated fields node, dof, node, dof, value, found {count}{hint}"
                 ),

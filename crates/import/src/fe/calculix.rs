@@ -160,12 +160,10 @@ pub fn parse_matrix(
             continue;
         }
         if count != 3 {
-            return Err(FeError::syntax(
+            return Err(FeError::matrix_line(
                 file,
                 ln,
-                None,
                 line,
-                "a matrix line",
                 format!("3 blank-separated fields, row column value; found {count}"),
             ));
         }

@@ -160,6 +160,16 @@ impl FeError {
         }
     }
 
+    /// A line of a matrix file that is not one term: `expected` says what one holds.
+    pub fn matrix_line(
+        file: &str,
+        line: usize,
+        text: &[u8],
+        expected: impl Into<String>,
+    ) -> FeError {
+        FeError::syntax(file, line, None, text, "a matrix line", expected)
+    }
+
     /// The line the error is on, 0 when none.
     pub fn line(&self) -> usize {
         match self {

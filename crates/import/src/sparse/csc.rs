@@ -206,7 +206,7 @@ impl SymCsc {
     pub fn mul(&self, x: MatRef<'_, f64>, y: MatMut<'_, f64>) {
         let (n, b) = (self.n, x.ncols());
         assert!(x.nrows() == n && y.nrows() == n && y.ncols() == b);
-        if b >= 2 && crate::sparse::par::THREADS > 1 && self.nnz() * b >= 1 << 16 {
+        if b >= 2 && crate::par::threads() > 1 && self.nnz() * b >= 1 << 16 {
             let h = b / 2;
             let (yl, yr) = y.split_at_col_mut(h);
             rayon::join(

@@ -1,5 +1,5 @@
 //! The dense steps of the eigen-solver and the static modes, done by faer with a fixed
-//! split of the work ([`crate::sparse::par`]): products of tall blocks, and the
+//! split of the work ([`crate::par`]): products of tall blocks, and the
 //! eigen-decomposition of the small projected matrices.
 //!
 //! faer 0.22's symmetric eigen-solver (divide and conquer) stops its secular-equation
@@ -7,18 +7,16 @@
 //! near 1; [`sym_eigen`] scales its input to an infinity norm of 1 first (a shift-invert
 //! Lanczos matrix has entries of 1/lambda, 1e-8 and smaller).
 
-use faer::diag::Diag;
-use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::linalg::evd::{self, ComputeEigenvectors};
+use faer::linalg::evd::ComputeEigenvectors;
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Mat, MatMut, MatRef, Par};
 
-use crate::sparse::par::{THREADS, par};
+use crate::par::threads;
 
-/// Rows per half when a tall product is split over [`THREADS`] threads, or `None` when
+/// Rows per half when a tall product is split over [`threads`] threads, or `None` when
 /// it is too small to be worth it. The split depends only on the shape.
 fn halves(rows: usize, work: usize) -> Option<usize> {
-    (THREADS > 1 && rows >= 2 && work >= 1 << 16).then_some(rows / 2)
+    (threads() > 1 && rows >= 2 && work >= 1 << 16).then_some(rows / 2)
 }
 
 /// `a^T b` for tall `a` and `b` (`n x m`, `n x k`, n large). faer's own parallel split of
@@ -90,25 +88,7 @@ pub fn sym_eigen(a: MatRef<'_, f64>) -> Option<(Vec<f64>, Mat<f64>)> {
     }
     let s = if norm > 0.0 { 1.0 / norm } else { 1.0 };
     let scaled = Mat::from_fn(n, n, |i, j| a[(i.max(j), i.min(j))] * s);
-    let mut u = Mat::<f64>::zeros(n, n);
-    let mut d = Diag::<f64>::zeros(n);
-    let mut mem = MemBuffer::new(evd::self_adjoint_evd_scratch::<f64>(
-        n,
-        ComputeEigenvectors::Yes,
-        par(),
-        Default::default(),
-    ));
-    evd::self_adjoint_evd(
-        scaled.as_ref(),
-        d.as_mut(),
-        Some(u.as_mut()),
-        par(),
-        MemStack::new(&mut mem),
-        Default::default(),
-    )
-    .ok()?;
-    let d = d.column_vector();
-    Some(((0..n).map(|i| d[i] / s).collect(), u))
+    crate::dense::evd_of_scaled(scaled.as_ref(), s, ComputeEigenvectors::Yes)
 }
 
 /// A deterministic block of pseudo-random values in [-1, 1) (xorshift64*, seeded): start

@@ -19,9 +19,9 @@ use faer::sparse::linalg::cholesky::{
 };
 use faer::{Conj, MatMut, Par, Side, Spec};
 
+use crate::par::{par, threads};
 use crate::sparse::csc::SymCsc;
 use crate::sparse::error::SolveError;
-use crate::sparse::par::{THREADS, par};
 
 /// The fill-reducing ordering and the structure of L for one pattern.
 #[derive(Debug, Clone)]
@@ -213,7 +213,7 @@ impl Factor {
     /// a column's arithmetic does not depend on the pool, so neither do the bits.
     pub fn solve_in_place(&self, rhs: MatMut<'_, f64>) {
         let b = rhs.ncols();
-        if b >= 2 && THREADS > 1 {
+        if b >= 2 && threads() > 1 {
             let (left, right) = rhs.split_at_col_mut(b / 2);
             rayon::join(|| self.solve_seq(left), || self.solve_seq(right));
         } else {

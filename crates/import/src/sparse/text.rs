@@ -227,11 +227,9 @@ mod tests {
     #[test]
     fn reals_are_the_standard_parsers_bits() {
         // A deterministic spread of CalculiX-style and other numbers.
-        let mut x = 0x9e37_79b9_7f4a_7c15u64;
+        let mut rng = fxbody_testkit::Rng::new(0x9e37_79b9_7f4a_7c15);
         for _ in 0..200_000 {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
+            let x = rng.next_u64();
             let m = (x % 100_000_000_000_000) as f64 / 1e13 + 1.0;
             let e = (x >> 48) as i32 % 40 - 20;
             let s = if x & 1 == 0 { 1.0 } else { -1.0 };

@@ -368,11 +368,7 @@ fn same_bits_for_any_thread_count() {
     let (_, b) = spiders(&dir);
     let conn = dofs_of(&model.dofs, b.reference);
     let run = |threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
-        pool.install(|| {
+        fxbody_testkit::in_pool(threads, || {
             let solver =
                 Solver::new(&model.k, &model.m, &Support::Blocked, lambda(8_000.0)).unwrap();
             let modes = solver.modes(&Options::default()).unwrap();
