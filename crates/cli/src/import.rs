@@ -124,7 +124,12 @@ fn coords_path(output: &Path) -> PathBuf {
 pub fn run(args: &ImportArgs) -> Result<(), String> {
     let (k, m) = read_matrices(args)?;
     let coords = match &args.coords {
-        Some(p) => Some(fe::read_coords(p).map_err(|e| e.to_string())?),
+        Some(p) => Some(
+            fe::read_model_coords(p)
+                .map_err(|e| e.to_string())?
+                .into_iter()
+                .collect(),
+        ),
         None => None,
     };
     let opts = Options {

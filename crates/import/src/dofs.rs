@@ -15,7 +15,7 @@ use crate::fe::{Dof, SymMatrix};
 
 /// K and M as dense matrices over one DOF list.
 #[derive(Debug, Clone)]
-pub struct Model {
+pub struct DofMatrices {
     /// DOFs in order.
     pub dofs: Vec<Dof>,
     /// Stiffness.
@@ -24,10 +24,10 @@ pub struct Model {
     pub m: DMatrix<f64>,
 }
 
-impl Model {
+impl DofMatrices {
     /// K and M over the union of their DOFs (a DOF missing from one matrix has a zero row
     /// there). Refuses more than [`MAX_DENSE_DOFS`] DOFs before allocating.
-    pub fn from_matrices(k: &SymMatrix, m: &SymMatrix) -> Result<Model, ImportError> {
+    pub fn from_matrices(k: &SymMatrix, m: &SymMatrix) -> Result<DofMatrices, ImportError> {
         let mut dofs: Vec<Dof> = k.dofs.iter().chain(&m.dofs).copied().collect();
         dofs.sort_by_key(Dof::order_key);
         dofs.dedup();
@@ -48,7 +48,7 @@ impl Model {
             }
             a
         };
-        Ok(Model {
+        Ok(DofMatrices {
             k: dense(k),
             m: dense(m),
             dofs,
@@ -160,7 +160,7 @@ fn sub(a: &DMatrix<f64>, rows: &[usize], cols: &[usize]) -> DMatrix<f64> {
 }
 
 /// Drop dead DOFs and condense massless ones (see the module text).
-pub fn reduce(model: Model, report: &mut Report) -> Result<Reduced, ImportError> {
+pub fn reduce(model: DofMatrices, report: &mut Report) -> Result<Reduced, ImportError> {
     let n = model.dofs.len();
     let keep: Vec<usize> = (0..n)
         .filter(|&i| {

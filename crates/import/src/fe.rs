@@ -16,7 +16,7 @@
 //! - CalculiX matrix storage, `.sti`/`.mas` with `.dof` ([`read_calculix`]; the whole
 //!   model, for the sparse path: [`calculix::read_job`]);
 //! - coordinates from Nastran `GRID` cards, a Radioss `/NODE` deck, Abaqus `*NODE`, or CSV
-//!   `id,x,y,z` ([`read_coords`]).
+//!   `id,x,y,z` ([`read_model_coords`]).
 
 mod abaqus;
 pub mod calculix;
@@ -31,7 +31,7 @@ use std::fmt;
 
 pub use abaqus::read_abaqus;
 pub use calculix::read_calculix;
-pub use coords::read_coords;
+pub use coords::read_model_coords;
 pub use dmig::read_dmig;
 pub use error::{Cols, FeError, Loc};
 pub use fields::nastran_real;

@@ -330,7 +330,7 @@ pub fn build(
     }
     let mut report = Report::default();
     let mut stages = Stages::new();
-    let mut model = dofs::Model::from_matrices(k, m)?;
+    let mut model = dofs::DofMatrices::from_matrices(k, m)?;
     let coords: Option<BTreeMap<i64, [f64; 3]>> = coords.map(|c| {
         let f = opts.units.map_or(1.0, |u| u.length);
         c.iter()
@@ -374,20 +374,20 @@ pub fn build(
         None => None,
     };
     stages.done("mass properties");
-    let eig = modes::Eigen::solve(&reduced)?;
+    let form = modes::StandardForm::factor(&reduced)?;
     stages.done("Cholesky of M, L^-1 K L^-T");
-    let free = support::classify(&reduced, props.as_ref(), opts.support, &eig, &mut report)?;
+    let free = support::classify(&reduced, props.as_ref(), opts.support, &form, &mut report)?;
     stages.done("support (definiteness)");
     let rigid = if free { props.as_ref() } else { None };
     let cut = opts
         .fmax
         .map(|f| reduced.scale.eigenvalue_in(modes::cut_eigenvalue(f)));
-    let el = modes::elastic(&reduced, &eig, rigid, cut, &mut |s| stages.done(s))?;
+    let el = modes::elastic(&reduced, &form, rigid, cut, &mut |s| stages.done(s))?;
     if let Some(w) = modes::resolution_warning(&el, free, props.is_some()) {
         report.warnings.push(w);
     }
-    let basis = modes::local_basis(&reduced, &el, &eig.l, rigid, &node_ids, &mut report)?;
-    drop(eig);
+    let basis = modes::local_basis(&reduced, &el, &form.l, rigid, &node_ids, &mut report)?;
+    drop(form);
     stages.done("cut, static modes, scaling");
     let file = assemble::fxb(&reduced, &basis, rigid, &node_ids, opts, &mut report)?;
     stages.done("assembly (M_C, K_C, checks)");

@@ -34,16 +34,16 @@ const FMAX_SLACK: f64 = 1e-9;
 
 /// The Cholesky factor of M and the standard-form matrix `A = L^-1 K L^-T`.
 #[derive(Debug, Clone)]
-pub struct Eigen {
+pub struct StandardForm {
     /// Lower Cholesky factor of M.
     pub l: DMatrix<f64>,
     /// `L^-1 K L^-T`, symmetric.
     pub a: DMatrix<f64>,
 }
 
-impl Eigen {
+impl StandardForm {
     /// Factor M (refusing a negative or singular one) and form A.
-    pub fn solve(model: &Reduced) -> Result<Eigen, ImportError> {
+    pub fn factor(model: &Reduced) -> Result<StandardForm, ImportError> {
         let Some(l) = dense::cholesky(&model.m) else {
             let e = dense::sym_eigenvalues(&model.m).unwrap_or_default();
             let (lo, hi) = (
@@ -64,7 +64,7 @@ impl Eigen {
             });
         };
         let a = dense::congruence_inverse(&l, &model.k);
-        Ok(Eigen { l, a })
+        Ok(StandardForm { l, a })
     }
 }
 
@@ -129,15 +129,15 @@ const PARTIAL_SHARE: usize = 4;
 /// beyond double precision. `stage` is told when each step ends (the import's profile).
 pub fn elastic(
     model: &Reduced,
-    eig: &Eigen,
+    form: &StandardForm,
     props: Option<&MassProps>,
     cut: Option<f64>,
     stage: &mut dyn FnMut(&str),
 ) -> Result<Elastic, ImportError> {
-    let n = eig.a.nrows();
+    let n = form.a.nrows();
     let a = match props {
-        Some(p) => shifted(&eig.a, &eig.l, p)?,
-        None => eig.a.clone(),
+        Some(p) => shifted(&form.a, &form.l, p)?,
+        None => form.a.clone(),
     };
     stage("rigid shift");
     let nel = if props.is_some() {
@@ -184,7 +184,7 @@ pub fn elastic(
     }
     let kept = kept_count(&lambda, cut);
     let v = vectors.columns(0, kept).into_owned();
-    let mut phi = dense::solve_lower_transposed(&eig.l, &v);
+    let mut phi = dense::solve_lower_transposed(&form.l, &v);
     if let Some(p) = props {
         // Re-project: phi -= R Rb^-1 (M R)^T phi (M R is n x 6: no n x n product).
         let rb_inv = p.rb.clone().try_inverse().expect("checked above");

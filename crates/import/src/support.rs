@@ -25,7 +25,7 @@ use nalgebra::DMatrix;
 
 use super::dense;
 use super::dofs::Reduced;
-use super::modes::{Eigen, shifted};
+use super::modes::{StandardForm, shifted};
 use super::report::Report;
 use super::rigid::{MOTIONS, MassProps};
 use super::{ImportError, Support};
@@ -151,10 +151,10 @@ fn units_text(p: f64) -> String {
     )
 }
 
-/// Zero-energy modes of K (eigenvalues of `eig.a`), at least one: for a K that is not
+/// Zero-energy modes of K (eigenvalues of `form.a`), at least one: for a K that is not
 /// definite.
-fn k_zero_count(eig: &Eigen) -> Result<usize, ImportError> {
-    let values = dense::sym_eigenvalues(&eig.a)
+fn k_zero_count(form: &StandardForm) -> Result<usize, ImportError> {
+    let values = dense::sym_eigenvalues(&form.a)
         .ok_or_else(|| ImportError::Invalid("the eigen-solver did not converge".into()))?;
     negative_check(&values)?;
     Ok(zero_count(&values, 1))
@@ -178,7 +178,7 @@ fn not_rigid(
     model: &Reduced,
     props: &MassProps,
     res: &[(f64, usize)],
-    eig: &Eigen,
+    form: &StandardForm,
     definite_k: bool,
 ) -> ImportError {
     let (i, &(rel, row)) = res
@@ -193,7 +193,7 @@ fn not_rigid(
          --free)"
             .to_string()
     } else {
-        match k_zero_count(eig) {
+        match k_zero_count(form) {
             Err(e) => return e,
             Ok(6) => "; K has 6 zero-energy modes, as a free body has, but not these: the \
                       coordinates do not belong to the matrices (rounded, in other units, or \
@@ -219,7 +219,7 @@ pub fn classify(
     model: &Reduced,
     props: Option<&MassProps>,
     support: Support,
-    eig: &Eigen,
+    form: &StandardForm,
     report: &mut Report,
 ) -> Result<bool, ImportError> {
     let res = props.map(|p| rigid_residuals(model, p));
@@ -238,7 +238,7 @@ pub fn classify(
                     model,
                     p,
                     res.as_deref().unwrap_or(&[]),
-                    eig,
+                    form,
                     definite_k,
                 ));
             }
@@ -262,7 +262,7 @@ pub fn classify(
                     model,
                     p,
                     res.as_deref().unwrap_or(&[]),
-                    eig,
+                    form,
                     false,
                 ));
             } else {
@@ -284,7 +284,7 @@ pub fn classify(
                     String::new()
                 };
                 return Err(ImportError::SingularBlocked {
-                    zero: k_zero_count(eig)?,
+                    zero: k_zero_count(form)?,
                     first,
                     hint,
                 });
@@ -294,7 +294,7 @@ pub fn classify(
     if free {
         // nothing but the rigid motions in K's null space
         let p = props.expect("free bodies have mass properties");
-        let c = dense::inf_norm(&eig.a);
+        let c = dense::inf_norm(&form.a);
         let mr = &model.m * &p.r;
         let rb_inv =
             p.rb.clone()
@@ -304,7 +304,7 @@ pub fn classify(
         let mut k_s = &model.k + (&w * mr.transpose()) * c;
         k_s = (&k_s + k_s.transpose()) * 0.5;
         if definite(&k_s).is_err() {
-            let a = shifted(&eig.a, &eig.l, p)?;
+            let a = shifted(&form.a, &form.l, p)?;
             let values = dense::sym_eigenvalues(&a)
                 .ok_or_else(|| ImportError::Invalid("the eigen-solver did not converge".into()))?;
             negative_check(&values)?;

@@ -16,27 +16,32 @@ use std::path::Path;
 use super::cards::Deck;
 use super::error::FeError;
 use super::fields::{real, trim};
-use fxbody::fxb::coords as radioss;
+use fxbody::fxb::coords::{self as radioss, Coords};
 use fxbody::fxb::fields::parse_int;
 
 /// Node coordinates by ID.
 pub type NodeMap = BTreeMap<i64, [f64; 3]>;
 
-/// Read node coordinates, detecting the format (see the module text).
-pub fn read_coords(path: &Path) -> Result<NodeMap, FeError> {
+/// Read the node coordinates of an FE model, detecting the format (see the module text):
+/// the formats of the product's [`fxbody::fxb::coords::read_coords`] (a `/NODE` deck,
+/// CSV), which reads them here too, and Nastran GRID cards and Abaqus `*NODE` data. The
+/// same [`Coords`] as the product's reader, in order of node ID.
+pub fn read_model_coords(path: &Path) -> Result<Coords, FeError> {
     let text = super::read_file(path)?;
     let file = path.display().to_string();
     let csv = path
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("csv"));
-    let list = match detect(&text) {
-        _ if csv => radioss::parse_csv(&text, &file)?,
-        Format::Radioss => radioss::parse_node_deck(&text, &file)?,
-        Format::Abaqus => return parse_abaqus_nodes(&text, &file),
-        Format::Nastran => return parse_grids(&text, &file),
-        Format::Csv => radioss::parse_csv(&text, &file)?,
+    let map: NodeMap = match detect(&text) {
+        _ if csv => radioss::parse_csv(&text, &file)?.into_iter().collect(),
+        Format::Radioss => radioss::parse_node_deck(&text, &file)?
+            .into_iter()
+            .collect(),
+        Format::Abaqus => parse_abaqus_nodes(&text, &file)?,
+        Format::Nastran => parse_grids(&text, &file)?,
+        Format::Csv => radioss::parse_csv(&text, &file)?.into_iter().collect(),
     };
-    Ok(list.into_iter().collect())
+    Ok(map.into_iter().collect())
 }
 
 /// Lines of a small text held whole, numbered from 1, without line endings.

@@ -126,6 +126,8 @@ fn coordinates_from_every_format_agree() {
             (c[0] as i64, [c[1], c[2], c[3]])
         })
         .collect();
+    // In order of node ID, whatever the file's order.
+    let want: Vec<(i64, [f64; 3])> = want.into_iter().collect();
     for f in [
         "grids.bdf",
         "pyn_written.bdf",
@@ -133,7 +135,7 @@ fn coordinates_from_every_format_agree() {
         "nodes.inp",
         "nodes.csv",
     ] {
-        let got = fe::read_coords(&data(f)).unwrap_or_else(|e| panic!("{f}: {e}"));
+        let got = fe::read_model_coords(&data(f)).unwrap_or_else(|e| panic!("{f}: {e}"));
         assert_eq!(got, want, "{f}");
     }
 }
@@ -258,7 +260,7 @@ fn refused_abaqus_calculix_and_coordinate_inputs_name_file_line_and_value() {
             && e.contains("err_eq.dof, which lists 2 DOFs"),
         "{e}"
     );
-    let e = error_of("err_cd5.bdf", |p| fe::read_coords(p).map(drop));
+    let e = error_of("err_cd5.bdf", |p| fe::read_model_coords(p).map(drop));
     assert!(
         e.contains("err_cd5.bdf:3: GRID 12 has CD=5: its components (the matrices' DOFs) are in a local frame"),
         "{e}"
@@ -277,7 +279,7 @@ fn devices_directories_and_endless_lines_are_refused() {
     let dir = data("");
     let e = fe::read_abaqus(&dir).unwrap_err().to_string();
     assert!(e.contains("expected a regular file"), "{e}");
-    let e = fe::read_coords(&dir).unwrap_err().to_string();
+    let e = fe::read_model_coords(&dir).unwrap_err().to_string();
     assert!(e.contains("expected a regular file"), "{e}");
     // A file that is one endless line (a binary file given by mistake).
     let tmp =

@@ -1,4 +1,4 @@
-//! Smoke test of `fxbody study --quick` (a few seconds in release): the command runs end
+//! Smoke test of `fxbody-study --quick` (a few seconds in release): the command runs end
 //! to end and its numbers agree with independent references.
 //! - exact modal stepping on the cantilever step load stays within 0.5% of the fixture's
 //!   full finite-element response (ref.json) at every step size, and the error the study
@@ -14,10 +14,9 @@
 //!   checked against the full FE model, not against our own untruncated run);
 //! - the chart has one panel per scene.
 //!
-//! It stays in the cli package (the study is a package of its own, run through the
-//! command), and being an integration test of that package it makes `cargo test` build
-//! target/release/fxbody, which the root package's tests (tests/all/cli and others) run
-//! through `fxbody_host::workspace_binary`.
+//! Being an integration test of the study package, it makes `cargo test` build
+//! target/release/fxbody-study, which tests/all/cli runs through
+//! `fxbody_host::workspace_binary`.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -100,16 +99,16 @@ fn same(got: f64, want: f64, what: &str) {
 fn run_quick() -> PathBuf {
     let out = std::env::temp_dir().join(format!("fxbody_study_smoke_{}", std::process::id()));
     let fixtures = fixtures();
-    let status = Command::new(env!("CARGO_BIN_EXE_fxbody"))
-        .args(["study", "--quick", "--fixtures"])
+    let status = Command::new(env!("CARGO_BIN_EXE_fxbody-study"))
+        .args(["--quick", "--fixtures"])
         .arg(&fixtures)
         .arg("--out")
         .arg(&out)
         .output()
-        .expect("the fxbody binary runs");
+        .expect("the fxbody-study binary runs");
     assert!(
         status.status.success(),
-        "fxbody study --quick failed: {}",
+        "fxbody-study --quick failed: {}",
         String::from_utf8_lossy(&status.stderr)
     );
     out
