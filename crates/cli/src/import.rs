@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 
 use fxbody::fxb;
 use fxbody_import::fe::{self, SymMatrix};
-use fxbody_import::{Options, Support, Units};
+use fxbody_import::{ImportError, Options, Support, Units};
 
 /// Arguments of `import`.
 #[derive(Debug, clap::Args)]
@@ -120,6 +120,19 @@ fn coords_path(output: &Path) -> PathBuf {
     output.with_extension("nodes.csv")
 }
 
+/// The message of an import error on the command line: the library's errors carry data
+/// and name no option; the options that set that data are this command's to name.
+fn worded(e: &ImportError) -> String {
+    match e {
+        ImportError::BadUnits { .. } => format!("--units: {e}"),
+        ImportError::BadFmax(_) => format!("--fmax: {e}"),
+        ImportError::BadDamping(..) => format!("--damping: {e}"),
+        ImportError::BadNodes(_) => format!("--nodes: {e}"),
+        ImportError::CoordinatesNeeded => format!("{e}: give --coords"),
+        _ => e.to_string(),
+    }
+}
+
 /// Run `import`: write the files and the report, or return the error message.
 pub fn run(args: &ImportArgs) -> Result<(), String> {
     let (k, m) = read_matrices(args)?;
@@ -144,7 +157,7 @@ pub fn run(args: &ImportArgs) -> Result<(), String> {
             .as_deref()
             .map(Units::parse)
             .transpose()
-            .map_err(|e| e.to_string())?,
+            .map_err(|e| worded(&e))?,
         nodes: args.nodes.clone(),
         damping: args.damping.as_ref().map(|d| (d[0], d[1])),
         naive_mass_r: args.naive_mass_r,
@@ -154,7 +167,7 @@ pub fn run(args: &ImportArgs) -> Result<(), String> {
         .as_ref()
         .map_or_else(String::new, |p| p.display().to_string());
     let built = fxbody_import::build(&k, &m, coords.as_ref(), &coords_name, &opts)
-        .map_err(|e| e.to_string())?;
+        .map_err(|e| worded(&e))?;
     let mut out = built.report.text();
     if let Some(path) = &args.report {
         let text = serde_json::to_string_pretty(&built.report.json())

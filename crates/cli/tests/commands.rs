@@ -42,3 +42,27 @@ fn study_is_refused_as_an_unknown_command() {
     let e = String::from_utf8_lossy(&out.stderr);
     assert!(e.contains("unrecognized subcommand 'study'"), "{e}");
 }
+
+/// The import library's errors name no option (issue 27.6): the command words them. A
+/// unit system it cannot read is refused naming `--units` once, with the text given.
+#[test]
+fn the_command_names_the_option_of_a_bad_value() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let out = std::env::temp_dir().join(format!("fxbody_cli_units_{}.fxb", std::process::id()));
+    let o = Command::new(env!("CARGO_BIN_EXE_fxbody"))
+        .arg("import")
+        .arg(root.join("tests/data/fe/punch.pch"))
+        .arg("--coords")
+        .arg(root.join("tests/data/fe/nodes.csv"))
+        .args(["--units", "mm-lb-s:m-kg-s", "-o"])
+        .arg(&out)
+        .output()
+        .expect("the fxbody binary runs");
+    assert_eq!(o.status.code(), Some(2));
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        e.contains("--units: unit systems 'mm-lb-s'") && e.matches("--units").count() == 1,
+        "{e}"
+    );
+    assert!(!out.exists());
+}

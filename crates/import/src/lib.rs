@@ -122,10 +122,11 @@ pub enum ImportError {
         file: String,
     },
     /// A free body needs coordinates.
-    #[error("a free body needs node coordinates: give --coords")]
+    #[error("a free body needs node coordinates")]
     CoordinatesNeeded,
-    /// A node asked for with --nodes is not a grid point of the matrices.
-    #[error("--nodes: {0}")]
+    /// The exposed nodes asked for: none, one twice, or one that is not a grid point of
+    /// the matrices.
+    #[error("exposed nodes: {0}")]
     BadNodes(String),
     /// Massless DOFs that cannot be condensed out.
     #[error(
@@ -231,9 +232,20 @@ pub enum ImportError {
     /// edge of what a body can be).
     #[error("the built body is not valid: {0}")]
     Invalid(String),
-    /// A bad option value.
-    #[error("{0}")]
-    BadOption(String),
+    /// Unit systems that are not `FROM:TO`, each `LENGTH-MASS-TIME` ([`Units::parse`]).
+    #[error("unit systems '{text}': expected {expected}")]
+    BadUnits {
+        /// The text given.
+        text: String,
+        /// What was expected there.
+        expected: &'static str,
+    },
+    /// A cut-off frequency that is not finite and positive.
+    #[error("the cut-off frequency must be finite and > 0 Hz, got {}", num(*.0))]
+    BadFmax(f64),
+    /// Rayleigh damping coefficients (alpha, beta) not finite and >= 0.
+    #[error("Rayleigh alpha and beta must be finite and >= 0, got {},{}", num(*.0), num(*.1))]
+    BadDamping(f64, f64),
     /// The eigen-solve came back inaccurate: the modes are not orthogonal to round-off.
     #[error(
         "the computed modes are not the eigenmodes of the matrices: Phi^T M Phi and \
@@ -314,19 +326,12 @@ pub fn build(
     if let Some(f) = opts.fmax
         && !(f.is_finite() && f > 0.0)
     {
-        return Err(ImportError::BadOption(format!(
-            "--fmax must be a finite frequency > 0, got {}",
-            num(f)
-        )));
+        return Err(ImportError::BadFmax(f));
     }
     if let Some((a, b)) = opts.damping
         && !(a.is_finite() && b.is_finite() && a >= 0.0 && b >= 0.0)
     {
-        return Err(ImportError::BadOption(format!(
-            "--damping: alpha and beta must be finite and >= 0, got {},{}",
-            num(a),
-            num(b)
-        )));
+        return Err(ImportError::BadDamping(a, b));
     }
     let mut report = Report::default();
     let mut stages = Stages::new();

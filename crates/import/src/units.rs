@@ -52,11 +52,10 @@ fn time(s: &str) -> Option<f64> {
 /// One system `L-M-T` in SI: (metres, kilograms, seconds) per unit.
 fn system(s: &str) -> Result<[f64; 3], ImportError> {
     let parts: Vec<&str> = s.split('-').collect();
-    let bad = || {
-        ImportError::BadOption(format!(
-            "--units: '{s}' is not LENGTH-MASS-TIME with length m|cm|mm|um|km, mass \
-             kg|g|mg|t, time s|ms|us (e.g. mm-t-s)"
-        ))
+    let bad = || ImportError::BadUnits {
+        text: s.to_string(),
+        expected: "LENGTH-MASS-TIME with length m|cm|mm|um|km, mass kg|g|mg|t, time \
+                   s|ms|us (e.g. mm-t-s)",
     };
     if parts.len() != 3 {
         return Err(bad());
@@ -71,10 +70,9 @@ fn system(s: &str) -> Result<[f64; 3], ImportError> {
 impl Units {
     /// Parse `FROM:TO`, e.g. `mm-t-s:mm-kg-ms`.
     pub fn parse(s: &str) -> Result<Units, ImportError> {
-        let (from, to) = s.split_once(':').ok_or_else(|| {
-            ImportError::BadOption(format!(
-                "--units: expected FROM:TO (e.g. mm-t-s:m-kg-s), got '{s}'"
-            ))
+        let (from, to) = s.split_once(':').ok_or_else(|| ImportError::BadUnits {
+            text: s.to_string(),
+            expected: "FROM:TO (e.g. mm-t-s:m-kg-s)",
         })?;
         let (a, b) = (system(from)?, system(to)?);
         Ok(Units {
@@ -103,5 +101,21 @@ mod tests {
         assert!((u.mass - 1e3).abs() < 1e-12);
         assert!(Units::parse("mm-t").is_err());
         assert!(Units::parse("mm-lb-s:m-kg-s").is_err());
+    }
+
+    /// The library's error carries the text and what was expected, and names no
+    /// command-line option (the `fxbody import` command words it with `--units`).
+    #[test]
+    fn a_bad_unit_system_is_data_not_an_option_name() {
+        let e = Units::parse("mm-lb-s:m-kg-s").unwrap_err();
+        assert!(
+            matches!(&e, super::ImportError::BadUnits { text, .. } if text == "mm-lb-s"),
+            "{e:?}"
+        );
+        let e = Units::parse("mm-t-s").unwrap_err().to_string();
+        assert!(
+            e.contains("'mm-t-s'") && e.contains("FROM:TO") && !e.contains("--"),
+            "{e}"
+        );
     }
 }
