@@ -65,6 +65,8 @@ bash scripts/setup-fe.sh
 cargo fmt --all --check
 # --release shares the dependencies' build with the tests below.
 cargo clippy --release --workspace --all-targets -- -D warnings
+# The API documentation of every package builds, every intra-doc link resolved.
+RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps
 cargo build --release --workspace
 cargo test --release --workspace
 # ecos (ecospy) needs libtbb.so.12, which PyPI's tbb installs into the venv's lib/.

@@ -74,7 +74,7 @@ fn departure(phi: &DMatrix<f64>, a: &DMatrix<f64>, d: &[f64], range: Range<usize
     rows
 }
 
-/// Largest [`departure`] a written body may have, beyond the eigen-solve's own floor
+/// Largest `departure` a written body may have, beyond the eigen-solve's own floor
 /// (below). Round-off gives 5.9e-10 at 3,000 DOFs on a well-conditioned grillage;
 /// faer 0.22's eigen-solver on an unscaled matrix of norm 1e12 gave 2.5e-2 (wrong modes,
 /// written without a word before this check): that is a failed solve, never a body.
@@ -122,7 +122,7 @@ fn check_departure(
 }
 
 /// The file (see the module text). `props` is given for a free body only. Refuses modes
-/// that are not M- and K-orthogonal to round-off ([`check_departure`]).
+/// that are not M- and K-orthogonal to round-off (`check_departure`).
 pub fn fxb(
     model: &Reduced,
     basis: &Basis,

@@ -91,7 +91,7 @@ pub struct Elastic {
 const RESOLUTION_WARN: f64 = 1e-3;
 
 /// A warning when double precision guarantees the lowest eigenvalue only to
-/// `eps |A| / lambda_min` above [`RESOLUTION_WARN`], which is also what a free body's
+/// `eps |A| / lambda_min` above `RESOLUTION_WARN`, which is also what a free body's
 /// rigid modes look like when the matrices' rounding left them slightly stiff (a 10-digit
 /// punch: 5.7e-15 of the largest) and the body was imported as held without coordinates
 /// (its rigid motions unknown); `None` else.

@@ -63,8 +63,8 @@ pub fn definite(a: &DMatrix<f64>) -> Result<(), usize> {
 
 /// How many of the ascending eigenvalues `values` of a singular matrix are zero-energy
 /// modes: those below the largest gap (ratio of neighbours, on absolute values) among
-/// the ones under [`CANDIDATE`] of the largest, the gap's lower side at most
-/// [`ZERO_AT_MOST`]; at least `at_least`. For messages: whether the matrix is singular
+/// the ones under `CANDIDATE` of the largest, the gap's lower side at most
+/// `ZERO_AT_MOST`; at least `at_least`. For messages: whether the matrix is singular
 /// is decided by [`definite`].
 pub fn zero_count(values: &[f64], at_least: usize) -> usize {
     let top = values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
