@@ -34,5 +34,4 @@ fn main() {
             let _ = std::fs::write(&header, format!("/* cbindgen failed: {e} */\n"));
         }
     }
-    println!("cargo:rustc-env=FXBODY_HEADER={}", header.display());
 }

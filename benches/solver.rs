@@ -16,26 +16,14 @@ use fxbody::body::{Body, stable_step};
 use fxbody::fxb::FxbFile;
 use fxbody::scene::Scene;
 use fxbody::solver::{Method, Options, build};
+use fxbody_testkit::Rng;
 use nalgebra::{DMatrix, DVector};
-
-/// Deterministic numbers in [-1, 1).
-struct Lcg(u64);
-
-impl Lcg {
-    fn next(&mut self) -> f64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        ((self.0 >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
-    }
-}
 
 /// A synthetic blocked body: nL modes, `nodes` nodes all exposed, dense SPD K_L,
 /// Rayleigh damping.
 fn synthetic(nl: usize, nodes: usize) -> Scene {
-    let mut g = Lcg(42);
-    let a: Vec<f64> = (0..nl * nl).map(|_| g.next()).collect();
+    let mut g = Rng::new(42);
+    let a: Vec<f64> = (0..nl * nl).map(|_| g.symmetric()).collect();
     let mut k_full = Vec::new();
     for r in 0..nl {
         for c in r..nl {
@@ -60,8 +48,8 @@ fn synthetic(nl: usize, nodes: usize) -> Scene {
         freq: 1.0,
         damping: Some((1.0, 1e-6)),
         rigid_modes: Vec::new(),
-        local_modes: (0..nl * nodes * 6).map(|_| g.next()).collect(),
-        m_l: (0..nl).map(|_| 1.0 + 0.5 * g.next()).collect(),
+        local_modes: (0..nl * nodes * 6).map(|_| g.symmetric()).collect(),
+        m_l: (0..nl).map(|_| 1.0 + 0.5 * g.symmetric()).collect(),
         k_full,
         k_diag: Vec::new(),
         m_r: Vec::new(),
@@ -126,16 +114,16 @@ fn main() {
     );
     for (nl, m) in [(20usize, 2usize), (100, 20), (200, 100)] {
         let scene = synthetic(nl, m);
-        let mut g = Lcg(7);
-        let loads: Vec<f64> = (0..6 * m).map(|_| g.next()).collect();
+        let mut g = Rng::new(7);
+        let loads: Vec<f64> = (0..6 * m).map(|_| g.symmetric()).collect();
         let mut out = vec![0.0; 3 * m];
 
         // The irreducible products.
-        let proj = DMatrix::from_fn(6 * m, nl, |_, _| g.next());
-        let outm = DMatrix::from_fn(3 * m, nl, |_, _| g.next());
+        let proj = DMatrix::from_fn(6 * m, nl, |_, _| g.symmetric());
+        let outm = DMatrix::from_fn(3 * m, nl, |_, _| g.symmetric());
         let lv = DVector::from_vec(loads.clone());
         let mut f = DVector::zeros(nl);
-        let q = DVector::from_fn(nl, |_, _| g.next());
+        let q = DVector::from_fn(nl, |_, _| g.symmetric());
         let mut o = DVector::zeros(3 * m);
         let mut bound = || {
             f.gemv_tr(1.0, black_box(&proj), black_box(&lv), 0.0);

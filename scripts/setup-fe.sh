@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # CalculiX (ccx), the FE solver the whole-model tests and bench check against
-# (crates/sparse/tests/ccx.rs, crates/sparse/benches/sparse.rs): Debian's calculix-ccx.
+# (crates/import/tests/all/ccx.rs, crates/import/benches/sparse.rs): Debian's calculix-ccx.
 # Idempotent: does nothing when ccx is already on the PATH. Needs root (or sudo) for
 # apt-get on a fresh machine.
 set -euo pipefail

@@ -59,12 +59,14 @@ if [ ! -x .venv-nastran/bin/python ] || ! cmp -s requirements-nastran.txt .venv-
 fi
 export FXBODY_NASTRAN_PYTHON="$PWD/.venv-nastran/bin/python"
 
-# CalculiX, the FE solver the whole-model tests check against (crates/sparse/tests/ccx.rs).
+# CalculiX, the FE solver the whole-model tests check against (crates/import/tests/all/ccx.rs).
 bash scripts/setup-fe.sh
 
 cargo fmt --all --check
 # --release shares the dependencies' build with the tests below.
 cargo clippy --release --workspace --all-targets -- -D warnings
+# The API documentation of every package builds, every intra-doc link resolved.
+RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps
 cargo build --release --workspace
 cargo test --release --workspace
 # ecos (ecospy) needs libtbb.so.12, which PyPI's tbb installs into the venv's lib/.
@@ -91,7 +93,7 @@ for variant in "OPENBLAS_CORETYPE=Prescott OPENBLAS_NUM_THREADS=1 FXBODY_IMPORT_
     # shellcheck disable=SC2086 # the variant is a list of assignments for env
     env $variant .venv/bin/python -m pytest -q -p no:cacheprovider "${REGENERATION[@]}"
     # shellcheck disable=SC2086
-    env $variant cargo test --release -q -p fxbody --lib import::dense
+    env $variant cargo test --release -q -p fxbody-import --lib dense
     # shellcheck disable=SC2086
     env $variant cargo test --release -q -p fxbody --test all fmi::model_description
 done

@@ -19,14 +19,10 @@ compile_error!(
 );
 
 pub mod body;
-pub mod fe;
 pub mod fmi;
 pub mod fmu;
 pub mod fxb;
-pub mod import;
 pub mod num;
 pub mod reduce;
 pub mod scene;
 pub mod solver;
-#[cfg(test)]
-mod testing;

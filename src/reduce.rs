@@ -41,7 +41,7 @@ const FMAX_SLACK: f64 = 1e-9;
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ReduceError {
     /// `fmax` not finite and positive.
-    #[error("--fmax must be a finite frequency > 0 Hz, got {}", crate::num::num(*.0))]
+    #[error("the cut-off frequency must be finite and > 0 Hz, got {}", crate::num::num(*.0))]
     BadFmax(f64),
     /// A node ID that is not in the body.
     #[error("node {0} is not in the body")]

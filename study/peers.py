@@ -1,4 +1,4 @@
-"""Peers of the study (issue 8), on the same body, scene and steps as `fxbody study`.
+"""Peers of the study (issue 8), on the same body, scene and steps as `fxbody-study`.
 
 (a) numpy: what a Python user would write for the reduced blocked cantilever read from
     the same .fxb file: the exact discrete state space (zero-order hold, scipy expm of

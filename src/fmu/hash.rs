@@ -1,7 +1,6 @@
 //! Small checksums written here rather than pulled in as crates: FNV-1a (64 bit) for
-//! the content-derived GUID and the FMU-state checksum, its word-at-a-time form for the
-//! scene file, and CRC-32 (IEEE, reflected
-//! polynomial 0xEDB88320) for the zip archive, which the zip format requires.
+//! the content-derived GUID and the FMU-state checksum, and its word-at-a-time form for
+//! the scene file. (The zip archive's CRC-32 is `crc32fast`'s, src/fmu/zip.rs.)
 
 /// FNV-1a 64-bit hash of `bytes`, continuing from `state` (start with [`FNV_OFFSET`]).
 pub fn fnv1a64(state: u64, bytes: &[u8]) -> u64 {
@@ -33,38 +32,6 @@ pub fn fnv1a64_words(words: &[u8]) -> u64 {
     h
 }
 
-const fn crc_table() -> [u32; 256] {
-    let mut table = [0u32; 256];
-    let mut n = 0;
-    while n < 256 {
-        let mut c = n as u32;
-        let mut k = 0;
-        while k < 8 {
-            c = if c & 1 != 0 {
-                0xEDB8_8320 ^ (c >> 1)
-            } else {
-                c >> 1
-            };
-            k += 1;
-        }
-        table[n] = c;
-        n += 1;
-    }
-    table
-}
-
-/// Byte-wise CRC-32 lookup table, computed at compile time (immutable).
-const CRC_TABLE: [u32; 256] = crc_table();
-
-/// CRC-32 (IEEE 802.3, as zip uses it) of `bytes`.
-pub fn crc32(bytes: &[u8]) -> u32 {
-    let mut c = 0xFFFF_FFFFu32;
-    for &b in bytes {
-        c = CRC_TABLE[((c ^ u32::from(b)) & 0xFF) as usize] ^ (c >> 8);
-    }
-    c ^ 0xFFFF_FFFF
-}
-
 /// A GUID-shaped text (`{8-4-4-4-12}` hex) derived from `parts`: two FNV-1a passes
 /// with different starting states give 128 bits. Same parts, same GUID.
 pub fn content_guid(parts: &[&[u8]]) -> String {
@@ -90,13 +57,6 @@ pub fn content_guid(parts: &[&[u8]]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn crc32_matches_the_standard_check_value() {
-        // The CRC-32 catalogue's check value for the ASCII string "123456789".
-        assert_eq!(crc32(b"123456789"), 0xCBF4_3926);
-        assert_eq!(crc32(b""), 0);
-    }
 
     #[test]
     fn fnv1a_matches_published_vectors() {

@@ -356,19 +356,24 @@ pub fn prepare_reporting(
     })
 }
 
-/// Refuse to write `out` over one of the `inputs` (`(what, path)`): the same file by
-/// device and inode, so a link or a `./` spelling is caught too. An `out` that does not
-/// exist yet is no input.
+/// Refuse to write `out` over one of the `inputs` (`(what, path)`): the same file as the
+/// platform identifies it (device and inode on Unix, volume and file index on Windows,
+/// through `same-file`), so a link or a `./` spelling is caught too. An `out` that does
+/// not exist yet is no input. Only regular files are compared (`same-file` opens them,
+/// and opening a FIFO would wait; an input that is not a regular file is refused when it
+/// is read).
 pub fn refuse_overwrite(out: &Path, inputs: &[(&str, &Path)]) -> Result<(), PackError> {
-    use std::os::unix::fs::MetadataExt;
-    let Ok(o) = std::fs::metadata(out) else {
+    let handle = |p: &Path| {
+        std::fs::metadata(p)
+            .is_ok_and(|m| m.is_file())
+            .then(|| same_file::Handle::from_path(p).ok())
+            .flatten()
+    };
+    let Some(o) = handle(out) else {
         return Ok(());
     };
     for (what, p) in inputs {
-        if let Ok(m) = std::fs::metadata(p)
-            && m.dev() == o.dev()
-            && m.ino() == o.ino()
-        {
+        if handle(p).is_some_and(|h| h == o) {
             return Err(PackError::Overwrite {
                 out: out.to_path_buf(),
                 what: what.to_string(),

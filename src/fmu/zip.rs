@@ -1,10 +1,8 @@
 //! A store-only zip writer (no compression): local headers, central directory, end
-//! record, CRC-32 from [`super::hash`]. (Reading an archive back is the importer's job:
+//! record, CRC-32 from `crc32fast`. (Reading an archive back is the importer's job:
 //! crates/host, used by the tests, reads every packed FMU and checks the CRCs.) Every entry gets the same fixed time stamp
 //! (1980-01-01 00:00, the format's epoch), so equal contents give equal archives. About
 //! sixty lines, which is why no zip crate is used.
-
-use super::hash::crc32;
 
 /// One archive member.
 pub struct Entry {
@@ -43,7 +41,7 @@ pub fn write(entries: &[Entry]) -> Result<Vec<u8>, ZipError> {
             u32::try_from(e.data.len()).map_err(|_| ZipError::EntryTooLarge(e.name.clone()))?;
         let offset = u32::try_from(out.len()).map_err(|_| ZipError::ArchiveTooLarge)?;
         let name = e.name.as_bytes();
-        let crc = crc32(&e.data);
+        let crc = crc32fast::hash(&e.data);
         // Local file header.
         out.extend_from_slice(&0x0403_4b50u32.to_le_bytes());
         out.extend_from_slice(&20u16.to_le_bytes()); // version needed

@@ -214,7 +214,8 @@ mod tests {
     /// a field off the layout by one character sends the line to the general paths.
     #[test]
     fn e16_9_lines_are_read_as_the_full_reading_reads_them() {
-        let mut next = crate::testing::xorshift(0x0123_4567_89ab_cdefu64);
+        let mut rng = fxbody_testkit::Rng::new(0x0123_4567_89ab_cdef);
+        let mut next = || rng.next_u64();
         for _ in 0..50_000 {
             let r = next();
             let fields = 1 + (r % 5) as usize;
@@ -282,7 +283,8 @@ mod tests {
             "-1.250000000E+01",
             "7",
         ];
-        let mut next = crate::testing::xorshift(0x2545_f491_4f6c_dd1du64);
+        let mut rng = fxbody_testkit::Rng::new(0x2545_f491_4f6c_dd1d);
+        let mut next = || rng.next_u64();
         let (mut fast, mut total) = (0, 0);
         for _ in 0..200_000 {
             let len = 1 + next() % 12;

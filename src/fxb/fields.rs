@@ -88,7 +88,7 @@ pub fn parse_int(text: &[u8]) -> Option<i64> {
 /// Non-finite results (overflow, `NaN`, `Inf`) are rejected: the file must hold numbers.
 ///
 /// Text already in Rust's own syntax (no `D`, no letterless exponent) is read by
-/// [`plain_real`]; the rest is rewritten into that syntax and given to `str::parse`. Both
+/// `plain_real`; the rest is rewritten into that syntax and given to `str::parse`. Both
 /// are correctly rounded values of the same decimal number, so they agree bit for bit
 /// (tested).
 pub fn parse_real(text: &[u8]) -> Option<f64> {
@@ -611,7 +611,8 @@ mod tests {
         ] {
             check(t);
         }
-        let mut next = crate::testing::xorshift(0x9e37_79b9_7f4a_7c15u64);
+        let mut rng = fxbody_testkit::Rng::new(0x9e37_79b9_7f4a_7c15);
+        let mut next = || rng.next_u64();
         for _ in 0..200_000 {
             let r = next();
             let digits = 1 + (r % 22) as usize;

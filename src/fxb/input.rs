@@ -84,11 +84,19 @@ fn refused(why: String) -> io::Error {
 
 /// What kind of non-regular file `meta` describes, for messages.
 fn kind(meta: &std::fs::Metadata) -> &'static str {
-    use std::os::unix::fs::FileTypeExt;
     let t = meta.file_type();
     if t.is_dir() {
         "a directory"
-    } else if t.is_fifo() {
+    } else {
+        special_kind(&t)
+    }
+}
+
+/// The kind of a special file, named where the platform has names for them.
+#[cfg(unix)]
+fn special_kind(t: &std::fs::FileType) -> &'static str {
+    use std::os::unix::fs::FileTypeExt;
+    if t.is_fifo() {
         "a FIFO (named pipe)"
     } else if t.is_char_device() {
         "a character device"
@@ -99,6 +107,13 @@ fn kind(meta: &std::fs::Metadata) -> &'static str {
     } else {
         "not a regular file"
     }
+}
+
+/// The kind of a special file: std names none of them off Unix (a Windows device or
+/// pipe path is refused as not a regular file).
+#[cfg(not(unix))]
+fn special_kind(_: &std::fs::FileType) -> &'static str {
+    "not a regular file"
 }
 
 /// Refuse `meta` unless it is a regular file.
@@ -124,14 +139,30 @@ pub fn regular_size(path: &Path) -> io::Result<u64> {
 /// swapped for a FIFO or a device in between is refused, not waited on). Returns the
 /// file and its size.
 pub fn open_regular(path: &Path) -> io::Result<(File, u64)> {
-    use std::os::unix::fs::OpenOptionsExt;
     regular_size(path)?;
-    let file = std::fs::OpenOptions::new()
-        .read(true)
-        .custom_flags(libc::O_NONBLOCK)
-        .open(path)?;
+    let file = open_nonblocking(path)?;
     let size = regular(&file.metadata()?)?;
     Ok((file, size))
+}
+
+/// `path` opened for reading without waiting on it: on Unix with `O_NONBLOCK`, so that a
+/// FIFO put in the file's place after its check is not waited on (the check on the open
+/// file then refuses it).
+#[cfg(unix)]
+fn open_nonblocking(path: &Path) -> io::Result<File> {
+    use std::os::unix::fs::OpenOptionsExt;
+    std::fs::OpenOptions::new()
+        .read(true)
+        .custom_flags(libc::O_NONBLOCK)
+        .open(path)
+}
+
+/// `path` opened for reading. Off Unix an open does not wait on a named pipe's writer
+/// the way a Unix FIFO's does, so a plain open is enough; the check on the open file
+/// refuses what is not a regular file.
+#[cfg(not(unix))]
+fn open_nonblocking(path: &Path) -> io::Result<File> {
+    File::open(path)
 }
 
 /// The message of a file larger than its format can need.
@@ -257,7 +288,7 @@ pub fn read_regular(path: &Path) -> io::Result<Vec<u8>> {
 }
 
 /// The most bytes a `.fxb` file with this 7-integer header can sensibly need:
-/// [`BYTES_PER_VALUE`] per value the counts call for, plus [`SLACK`].
+/// `BYTES_PER_VALUE` per value the counts call for, plus `SLACK`.
 pub fn size_bound(header: &[i64; 7]) -> u128 {
     let [nl, _ns, n, irot, _idamp, _iblo, _ifile] = header.map(|v| v.max(0) as u128);
     let nr = if irot > 0 { 15 } else { 12 };

@@ -369,7 +369,7 @@ impl Solver for Exact {
 mod tests {
     use super::{Exact, Growth};
     use crate::solver::{Options, Solver};
-    use crate::testing::xorshift;
+    use fxbody_testkit::Rng;
 
     fn cantilever(zeta: f64) -> Exact {
         let scene = crate::fmu::scene_io::cantilever_tip_scene();
@@ -417,8 +417,8 @@ mod tests {
     /// `scale` times the measure.
     #[test]
     fn the_growth_bounds_every_step() {
-        let mut rand = xorshift(0x9e37_79b9_7f4a_7c15);
-        let mut unif = move || (rand() >> 11) as f64 / (1u64 << 53) as f64;
+        let mut rng = Rng::new(0x9e37_79b9_7f4a_7c15);
+        let mut unif = move || rng.uniform();
         let mut checked = 0;
         for zeta in [0.0, 0.02, 0.5, 3.0] {
             let mut s = cantilever(zeta);

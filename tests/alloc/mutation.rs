@@ -9,6 +9,7 @@
 //! (or `scripts/robust-long.sh --cases 1000000`) is the long mode.
 
 use crate::common::fxb_files::fxb_files;
+use fxbody_testkit::Rng;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
 use fxbody::body::Body;
@@ -26,27 +27,6 @@ const HEAP_PER_BYTE: usize = 64;
 const HEAP_CONSTANT: usize = 1 << 20;
 
 use crate::alloc_counter;
-
-/// xorshift64: a small deterministic generator, enough to pick positions.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        let mut x = self.0;
-        x ^= x << 13;
-        x ^= x >> 7;
-        x ^= x << 17;
-        self.0 = x;
-        x
-    }
-    fn below(&mut self, n: usize) -> usize {
-        if n == 0 {
-            0
-        } else {
-            (self.next() % n as u64) as usize
-        }
-    }
-}
 
 fn split_lines(text: &[u8]) -> Vec<Vec<u8>> {
     text.split(|&c| c == b'\n').map(<[u8]>::to_vec).collect()
@@ -120,7 +100,7 @@ fn mutate(rng: &mut Rng, text: &[u8]) -> Vec<u8> {
         }
         5 => {
             let len = rng.below(120);
-            let garbage: Vec<u8> = (0..len).map(|_| (rng.next() & 0xff) as u8).collect();
+            let garbage: Vec<u8> = (0..len).map(|_| (rng.next_u64() & 0xff) as u8).collect();
             lines.insert(rng.below(lines.len() + 1), garbage);
             join_lines(&lines)
         }
@@ -231,7 +211,7 @@ fn mutated_files_never_panic() {
         .and_then(|v| v.parse().ok())
         .unwrap_or(CASES);
     let per_file = total.div_ceil(files.len());
-    let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+    let mut rng = Rng::new(0x9e37_79b9_7f4a_7c15);
     let (mut cases, mut valid, mut panics) = (0, 0, Vec::new());
     let (mut heavy, mut worst_ratio) = (Vec::new(), 0.0f64);
     for path in &files {

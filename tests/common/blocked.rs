@@ -9,18 +9,7 @@ use fxbody::fxb::FxbFile;
 use fxbody::scene::Scene;
 use fxbody::solver::{Method, Options, build};
 
-/// A small deterministic generator (64-bit LCG), uniform in [-1, 1).
-pub struct Lcg(pub u64);
-
-impl Lcg {
-    pub fn next(&mut self) -> f64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        ((self.0 >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
-    }
-}
+pub use fxbody_testkit::Rng;
 
 /// A blocked body from explicit matrices: `m_l` (nL), `k_l` (nL x nL row-major,
 /// symmetric), local modes `phi` (mode-major, node, component: nL * N * 6), frame `p0`
@@ -118,11 +107,11 @@ pub fn random_scene(
     seed: u64,
     damping: Option<(f64, f64)>,
 ) -> Scene {
-    let mut g = Lcg(seed);
-    let m_l: Vec<f64> = (0..nl).map(|_| 1.0 + 0.5 * g.next()).collect();
+    let mut g = Rng::new(seed);
+    let m_l: Vec<f64> = (0..nl).map(|_| 1.0 + 0.5 * g.symmetric()).collect();
     // Q: Gram-Schmidt (twice, for orthogonality to round-off) of a random matrix.
     let mut q: Vec<Vec<f64>> = (0..nl)
-        .map(|_| (0..nl).map(|_| g.next()).collect())
+        .map(|_| (0..nl).map(|_| g.symmetric()).collect())
         .collect();
     for i in 0..nl {
         let (done, rest) = q.split_at_mut(i);
@@ -150,7 +139,7 @@ pub fn random_scene(
             k[i * nl + j] = k[j * nl + i];
         }
     }
-    let phi: Vec<f64> = (0..nl * nnodes * 6).map(|_| g.next()).collect();
+    let phi: Vec<f64> = (0..nl * nnodes * 6).map(|_| g.symmetric()).collect();
     // A rotation from a unit quaternion.
     let (w, x, y, z) = {
         let q: [f64; 4] = [0.9, 0.2, -0.3, 0.25];

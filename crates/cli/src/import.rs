@@ -1,4 +1,4 @@
-//! `fxbody import`: build a `.fxb` body from FE matrices ([`fxbody::import`]).
+//! `fxbody import`: build a `.fxb` body from FE matrices ([`fxbody_import`]).
 //!
 //! `fxbody import model.pch --coords nodes.csv -o body.fxb` (Nastran DMIG KAAX/MAAX), or
 //! `fxbody import --stiffness K.mtx --mass M.mtx [--dof-map job.dof] --coords ... -o
@@ -8,9 +8,9 @@
 
 use std::path::{Path, PathBuf};
 
-use fxbody::fe::{self, SymMatrix};
 use fxbody::fxb;
-use fxbody::import::{self, Options, Support, Units};
+use fxbody_import::fe::{self, SymMatrix};
+use fxbody_import::{ImportError, Options, Support, Units};
 
 /// Arguments of `import`.
 #[derive(Debug, clap::Args)]
@@ -120,11 +120,29 @@ fn coords_path(output: &Path) -> PathBuf {
     output.with_extension("nodes.csv")
 }
 
+/// The message of an import error on the command line: the library's errors carry data
+/// and name no option; the options that set that data are this command's to name.
+fn worded(e: &ImportError) -> String {
+    match e {
+        ImportError::BadUnits { .. } => format!("--units: {e}"),
+        ImportError::BadFmax(_) => format!("--fmax: {e}"),
+        ImportError::BadDamping(..) => format!("--damping: {e}"),
+        ImportError::BadNodes(_) => format!("--nodes: {e}"),
+        ImportError::CoordinatesNeeded => format!("{e}: give --coords"),
+        _ => e.to_string(),
+    }
+}
+
 /// Run `import`: write the files and the report, or return the error message.
 pub fn run(args: &ImportArgs) -> Result<(), String> {
     let (k, m) = read_matrices(args)?;
     let coords = match &args.coords {
-        Some(p) => Some(fe::read_coords(p).map_err(|e| e.to_string())?),
+        Some(p) => Some(
+            fe::read_model_coords(p)
+                .map_err(|e| e.to_string())?
+                .into_iter()
+                .collect(),
+        ),
         None => None,
     };
     let opts = Options {
@@ -139,7 +157,7 @@ pub fn run(args: &ImportArgs) -> Result<(), String> {
             .as_deref()
             .map(Units::parse)
             .transpose()
-            .map_err(|e| e.to_string())?,
+            .map_err(|e| worded(&e))?,
         nodes: args.nodes.clone(),
         damping: args.damping.as_ref().map(|d| (d[0], d[1])),
         naive_mass_r: args.naive_mass_r,
@@ -148,8 +166,8 @@ pub fn run(args: &ImportArgs) -> Result<(), String> {
         .coords
         .as_ref()
         .map_or_else(String::new, |p| p.display().to_string());
-    let built =
-        import::build(&k, &m, coords.as_ref(), &coords_name, &opts).map_err(|e| e.to_string())?;
+    let built = fxbody_import::build(&k, &m, coords.as_ref(), &coords_name, &opts)
+        .map_err(|e| worded(&e))?;
     let mut out = built.report.text();
     if let Some(path) = &args.report {
         let text = serde_json::to_string_pretty(&built.report.json())

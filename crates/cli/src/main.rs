@@ -1,6 +1,7 @@
 //! The `fxbody` command: a thin dispatcher, one subcommand per module, over the library
-//! (`fxbody`), the FMI importer (`fxbody-host`, for `demo`) and the study
-//! (`fxbody-study`).
+//! (`fxbody`), the FE import (`fxbody-import`) and the FMI importer (`fxbody-host`, for
+//! `demo`). The speed/accuracy study is a command of its own (`fxbody-study`), not
+//! compiled in here.
 
 mod demo;
 mod import;
@@ -33,8 +34,6 @@ enum Command {
     Reduce(reduce::ReduceArgs),
     /// The main job: pack the shipped cantilever, run a tip step load through the FMU's C ABI.
     Demo(demo::DemoArgs),
-    /// Speed against accuracy: every method over a range of steps, stability map, bound.
-    Study(fxbody_study::StudyArgs),
 }
 
 fn main() {
@@ -45,7 +44,6 @@ fn main() {
         Command::Reduce(args) => reduce::run(args),
         Command::Import(args) => import::run(args),
         Command::Demo(args) => demo::run(args),
-        Command::Study(args) => fxbody_study::run(args),
     };
     if let Err(message) = result {
         eprintln!("fxbody: {message}");

@@ -8,7 +8,7 @@ use std::path::PathBuf;
 
 use fxbody::fxb;
 use fxbody::num::{count, num};
-use fxbody::reduce::{node_indices, select_nodes, to_fxb, truncate};
+use fxbody::reduce::{ReduceError, node_indices, select_nodes, to_fxb, truncate};
 
 /// Arguments of `reduce`.
 #[derive(Debug, clap::Args)]
@@ -40,7 +40,10 @@ pub fn run(args: &ReduceArgs) -> Result<(), String> {
     let mut o = String::new();
     let (body, residual) = match args.fmax {
         Some(fmax) => {
-            let t = truncate(&body, fmax).map_err(|e| e.to_string())?;
+            let t = truncate(&body, fmax).map_err(|e| match e {
+                ReduceError::BadFmax(_) => format!("--fmax: {e}"),
+                e => e.to_string(),
+            })?;
             let _ = writeln!(
                 o,
                 "modes: kept {} of {} (up to {} Hz; highest kept {:.6e} Hz), dropped {}",

@@ -1,4 +1,4 @@
-//! An FMI 2.0 co-simulation importer: load a packed FMU's library with `dlopen` and call
+//! An FMI 2.0 co-simulation importer: load a packed FMU's library (`libloading`) and call
 //! it through its C ABI, exactly as a master would; read the `.fmu` archive ([`zip`]);
 //! build the resource location URI ([`uri`]). Used by `fxbody demo`, the tests and the
 //! benches, so that they exercise the real exports rather than the Rust functions behind
@@ -7,8 +7,8 @@
 //! The one module of this package with `unsafe`: every call through the loaded library
 //! is a foreign call whose contract the FMI 2.0 standard states.
 
-// Calls through dlopen'ed function pointers cannot be safe Rust; each block says why it
-// holds (clippy::undocumented_unsafe_blocks).
+// Loading a library and calls through its function pointers cannot be safe Rust; each
+// block says why it holds (clippy::undocumented_unsafe_blocks).
 #![allow(unsafe_code)]
 
 pub mod fmi2;
@@ -107,37 +107,42 @@ struct Fns {
 
 /// A loaded FMU library (closed on drop).
 pub struct FmuLibrary {
-    handle: *mut c_void,
     f: Fns,
+    /// Keeps the code `f` points into loaded; instances borrow the library, so none
+    /// outlives it.
+    _lib: libloading::Library,
 }
 
-fn dl_error() -> String {
-    // SAFETY: dlerror returns NULL or a NUL-terminated string valid until the next dl call.
-    unsafe { text_arg(libc::dlerror()) }.unwrap_or_else(|| "unknown dl error".into())
+/// Load the library at `path`, resolving every symbol now and keeping them to this
+/// library (two loaded FMUs export the same names).
+#[cfg(unix)]
+fn load(path: &Path) -> Result<libloading::Library, libloading::Error> {
+    use libloading::os::unix::{Library, RTLD_LOCAL, RTLD_NOW};
+    // SAFETY: loading runs the library's initialisers; an FMU's are its own static
+    // constructors, which the FMI standard lets an importer run by loading it.
+    unsafe { Library::open(Some(path), RTLD_NOW | RTLD_LOCAL) }.map(Into::into)
+}
+
+/// Load the library at `path` (LoadLibraryExW on Windows: symbols stay per library).
+#[cfg(not(unix))]
+fn load(path: &Path) -> Result<libloading::Library, libloading::Error> {
+    // SAFETY: as on Unix: loading runs the FMU's own initialisers.
+    unsafe { libloading::Library::new(path) }
 }
 
 impl FmuLibrary {
-    /// `dlopen` the library at `path` and resolve the functions.
+    /// Load the library at `path` and resolve the functions.
     pub fn open(path: &Path) -> Result<FmuLibrary, String> {
-        let cpath = CString::new(path.as_os_str().as_encoded_bytes())
-            .map_err(|_| "library path holds a NUL byte".to_string())?;
-        // SAFETY: a valid C string; RTLD_LOCAL keeps two loaded FMUs' symbols apart.
-        let handle = unsafe { libc::dlopen(cpath.as_ptr(), libc::RTLD_NOW | libc::RTLD_LOCAL) };
-        if handle.is_null() {
-            return Err(format!("cannot load {}: {}", path.display(), dl_error()));
-        }
+        let lib = load(path).map_err(|e| format!("cannot load {}: {e}", path.display()))?;
         macro_rules! sym {
             ($name:literal, $ty:ty) => {{
-                // SAFETY: `handle` is a live dlopen handle and the name is NUL-terminated.
-                let p = unsafe { libc::dlsym(handle, concat!($name, "\0").as_ptr().cast()) };
-                if p.is_null() {
-                    // SAFETY: the handle is live and closed once, here.
-                    unsafe { libc::dlclose(handle) };
-                    return Err(format!("{}: missing export {}", path.display(), $name));
-                }
                 // SAFETY: the symbol is the FMI 2.0 function of that name, whose C
-                // signature is `$ty` (fmi2Functions.h).
-                unsafe { std::mem::transmute::<*mut c_void, $ty>(p) }
+                // signature is `$ty` (fmi2Functions.h); the pointer copied out of the
+                // `Symbol` is used only while `lib`, kept in the same `FmuLibrary`, is
+                // loaded.
+                let s = unsafe { lib.get::<$ty>(concat!($name, "\0").as_bytes()) }
+                    .map_err(|_| format!("{}: missing export {}", path.display(), $name))?;
+                *s
             }};
         }
         let f = Fns {
@@ -161,7 +166,7 @@ impl FmuLibrary {
             set_input_derivatives: sym!("fmi2SetRealInputDerivatives", Derivs),
             get_output_derivatives: sym!("fmi2GetRealOutputDerivatives", OutDerivs),
         };
-        Ok(FmuLibrary { handle, f })
+        Ok(FmuLibrary { f, _lib: lib })
     }
 
     /// Instantiate a co-simulation slave with debug logging `debug`. On failure the
@@ -210,14 +215,6 @@ impl FmuLibrary {
             log,
             _env: env,
         })
-    }
-}
-
-impl Drop for FmuLibrary {
-    fn drop(&mut self) {
-        // SAFETY: a live handle from dlopen, closed once; instances borrow the library,
-        // so none is alive now.
-        unsafe { libc::dlclose(self.handle) };
     }
 }
 

@@ -1,64 +1,33 @@
-//! Reading a store-only zip archive (a `.fmu` as `fxbody pack` writes it), with every
-//! member's CRC-32 checked by an implementation of its own (not the packer's), so a
-//! wrong checksum on the writing side is caught.
+//! Reading a `.fmu` archive (as `fxbody pack` writes it: stored members) through the `zip`
+//! crate, which checks every member's CRC-32 as it reads it, with its own implementation
+//! (not the packer's), so a wrong checksum on the writing side is caught.
 
-/// CRC-32 (IEEE 802.3, reflected polynomial 0xEDB88320), bit by bit.
-pub fn crc32(bytes: &[u8]) -> u32 {
-    let mut c = !0u32;
-    for &b in bytes {
-        c ^= u32::from(b);
-        for _ in 0..8 {
-            c = if c & 1 != 0 {
-                0xEDB8_8320 ^ (c >> 1)
-            } else {
-                c >> 1
-            };
-        }
-    }
-    !c
-}
+use std::io::{Cursor, Read};
 
-/// Read back a store-only archive of stored members (what `fxbody pack` writes): `(name, data)` in order, with every CRC checked. Used by the tests and by
-/// `demo` to unpack an FMU without a zip crate.
+/// Read back an archive of stored members (what `fxbody pack` writes): `(name, data)`
+/// in order, with every CRC checked. Used by the tests and by `demo` to unpack an FMU.
 pub fn read(bytes: &[u8]) -> Result<Vec<(String, Vec<u8>)>, String> {
-    let u16_at = |p: usize| -> Result<u16, String> {
-        bytes
-            .get(p..p + 2)
-            .map(|b| u16::from_le_bytes([b[0], b[1]]))
-            .ok_or("zip: truncated".to_string())
-    };
-    let u32_at = |p: usize| -> Result<u32, String> {
-        bytes
-            .get(p..p + 4)
-            .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-            .ok_or("zip: truncated".to_string())
-    };
-    let mut out = Vec::new();
-    let mut p = 0;
-    while u32_at(p).is_ok_and(|sig| sig == 0x0403_4b50) {
-        let method = u16_at(p + 8)?;
-        let crc = u32_at(p + 14)?;
-        let size = u32_at(p + 18)? as usize;
-        let nlen = u16_at(p + 26)? as usize;
-        let xlen = u16_at(p + 28)? as usize;
-        if method != 0 {
+    let mut archive = zip::ZipArchive::new(Cursor::new(bytes)).map_err(|e| format!("zip: {e}"))?;
+    let mut out = Vec::with_capacity(archive.len());
+    for k in 0..archive.len() {
+        let mut member = archive
+            .by_index(k)
+            .map_err(|e| format!("zip: member {k}: {e}"))?;
+        let name = member
+            .name()
+            .map_err(|e| format!("zip: member {k}: {e}"))?
+            .into_owned();
+        if member.compression() != zip::CompressionMethod::Stored {
             return Err(format!(
-                "zip: member at offset {p} is compressed (method {method}); only stored members are read"
+                "zip: {name} is compressed ({}); only stored members are read",
+                member.compression()
             ));
         }
-        let name = bytes
-            .get(p + 30..p + 30 + nlen)
-            .ok_or("zip: truncated name")?;
-        let start = p + 30 + nlen + xlen;
-        let data = bytes
-            .get(start..start + size)
-            .ok_or("zip: truncated data")?;
-        let name = String::from_utf8_lossy(name).into_owned();
-        if crc32(data) != crc {
-            return Err(format!("zip: CRC mismatch in {name}"));
-        }
-        out.push((name, data.to_vec()));
-        p = start + size;
+        let mut data = Vec::with_capacity(usize::try_from(member.size()).unwrap_or(0));
+        member
+            .read_to_end(&mut data)
+            .map_err(|e| format!("zip: {name}: {e}"))?;
+        out.push((name, data));
     }
     Ok(out)
 }
@@ -66,32 +35,36 @@ pub fn read(bytes: &[u8]) -> Result<Vec<(String, Vec<u8>)>, String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::io::Write;
 
-    #[test]
-    fn crc32_of_the_standard_check_string() {
-        // The check value of CRC-32/ISO-HDLC for "123456789".
-        assert_eq!(crc32(b"123456789"), 0xCBF4_3926);
+    /// An archive of two stored members, written by the `zip` crate's writer.
+    fn archive(members: &[(&str, &[u8])]) -> Vec<u8> {
+        let mut w = zip::ZipWriter::new(Cursor::new(Vec::new()));
+        let opts = zip::write::SimpleFileOptions::default()
+            .compression_method(zip::CompressionMethod::Stored);
+        for (name, data) in members {
+            w.start_file(*name, opts).unwrap();
+            w.write_all(data).unwrap();
+        }
+        w.finish().unwrap().into_inner()
     }
 
     #[test]
-    fn a_hand_built_stored_member_reads_back_and_a_bad_crc_is_refused() {
-        let data = b"hello";
-        let mut z = Vec::new();
-        z.extend_from_slice(&0x0403_4b50u32.to_le_bytes());
-        z.extend_from_slice(&[20, 0, 0, 0, 0, 0, 0, 0, 0, 0]);
-        z.extend_from_slice(&crc32(data).to_le_bytes());
-        z.extend_from_slice(&5u32.to_le_bytes());
-        z.extend_from_slice(&5u32.to_le_bytes());
-        z.extend_from_slice(&5u16.to_le_bytes());
-        z.extend_from_slice(&0u16.to_le_bytes());
-        z.extend_from_slice(b"a.txt");
-        z.extend_from_slice(data);
-        assert_eq!(
-            read(&z).unwrap(),
-            vec![("a.txt".to_string(), data.to_vec())]
+    fn stored_members_read_back_in_order_and_a_bad_crc_is_refused() {
+        let members: [(&str, &[u8]); 2] = [("a.txt", b"hello"), ("b/c.bin", &[0, 1, 2, 255])];
+        let mut z = archive(&members);
+        let want: Vec<(String, Vec<u8>)> = members
+            .iter()
+            .map(|(n, d)| (n.to_string(), d.to_vec()))
+            .collect();
+        assert_eq!(read(&z).unwrap(), want);
+        // Damage one byte of "hello" (its CRC stays): the read must fail on a.txt.
+        let at = z.windows(5).position(|w| w == b"hello").unwrap();
+        z[at + 4] = b'O';
+        let e = read(&z).unwrap_err();
+        assert!(
+            e.contains("a.txt") && e.to_lowercase().contains("checksum"),
+            "{e}"
         );
-        let n = z.len();
-        z[n - 1] = b'O';
-        assert!(read(&z).unwrap_err().contains("CRC mismatch in a.txt"));
     }
 }

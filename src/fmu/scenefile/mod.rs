@@ -4,7 +4,7 @@
 //! A packed scene is its body restricted to the exposed nodes ([`select_nodes`]: their
 //! rows of the rigid and local modes, every mode-space matrix whole), the modes kept by
 //! `--fmax` with their residual flexibility, the exposed nodes' coordinates, and the
-//! modes of (K_L, m_L) as the body already solved them ([`Modal`]), so that the FMU
+//! modes of (K_L, m_L) as the body already solved them ([`Modal`](crate::body::Modal)), so that the FMU
 //! neither parses the `.fxb` text nor solves an eigenproblem, and runs bit for bit what a
 //! scene built from the `.fxb` file runs. docs/SCENE_FORMAT.md describes every byte:
 //! a 32-byte header (magic, byte-order mark, version, payload length, checksum), then

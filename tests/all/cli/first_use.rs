@@ -165,16 +165,12 @@ fn study_writes_beside_the_user_not_into_docs() {
         .and_then(|m| m.modified())
         .ok();
     let fixtures = fixture("");
-    let o = run_in(
-        &d,
-        &[
-            "study",
-            "--quick",
-            "--spin-only",
-            "--fixtures",
-            fixtures.to_str().unwrap(),
-        ],
-    );
+    let o = std::process::Command::new(fxbody_host::workspace_binary("fxbody-study"))
+        .current_dir(&d)
+        .args(["--quick", "--spin-only", "--fixtures"])
+        .arg(&fixtures)
+        .output()
+        .expect("fxbody-study runs");
     ok(&o);
     assert!(d.join("study-out/spin.csv").is_file());
     let after = std::fs::metadata(&docs_spin)

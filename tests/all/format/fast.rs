@@ -5,6 +5,7 @@
 //! with values of every size; reading a file as it is read against parsing its bytes;
 //! and the progress callback the commands draw their bar from.
 
+use fxbody_testkit::Rng;
 use std::path::{Path, PathBuf};
 
 use crate::common::fxb_files::fxb_files;
@@ -91,21 +92,6 @@ fn fast_and_exact_readings_agree_on_every_body_file() {
     assert!(read >= 17, "{read}");
 }
 
-/// A small xorshift generator: the same damaged files on every run.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        self.0
-    }
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % n as u64) as usize
-    }
-}
-
 /// One damage to one line, of the kinds that send a line off the fast path or make it
 /// an error: other exponent letters, tabs, glued or split numbers, a blank field, text
 /// past column 100, a stray character, a lost or doubled line.
@@ -165,7 +151,7 @@ fn damage(lines: &mut Vec<Vec<u8>>, rng: &mut Rng) {
 #[test]
 fn fast_and_exact_readings_agree_on_damaged_files() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let mut rng = Rng(0x5eed_1234_abcd_0001);
+    let mut rng = Rng::new(0x5eed_1234_abcd_0001);
     let (mut ok, mut failed) = (0, 0);
     for name in [
         "fixtures/cantilever_damped.fxb",
@@ -234,7 +220,7 @@ fn reading_a_file_as_it_is_read_equals_parsing_its_bytes() {
     assert!(check(&crlf, "CR-LF"));
     assert!(check(text.strip_suffix(b"\n").unwrap(), "no last line end"));
     let lines: Vec<Vec<u8>> = text.split(|&c| c == b'\n').map(<[u8]>::to_vec).collect();
-    let mut rng = Rng(0x5eed_1234_abcd_0002);
+    let mut rng = Rng::new(0x5eed_1234_abcd_0002);
     let (mut ok, mut failed) = (0, 0);
     for trial in 0..400 {
         let mut copy = lines.clone();
@@ -282,9 +268,9 @@ fn body(n: usize, nl: usize, mut value: impl FnMut() -> f64) -> FxbFile {
 /// -0.0, huge), read both ways.
 #[test]
 fn fast_and_exact_readings_agree_on_values_of_every_size() {
-    let mut rng = Rng(0x0dd_ba11_cafe_f00d);
+    let mut rng = Rng::new(0x0dd_ba11_cafe_f00d);
     let f = body(23, 7, || {
-        let r = rng.next();
+        let r = rng.next_u64();
         match r % 9 {
             0 => 0.0,
             1 => -0.0,

@@ -1,8 +1,7 @@
-//! The `.fxb` text format: reading, the error messages, writing back; and the FE matrix and
-//! coordinate readers `fxbody import` uses (`fe`).
+//! The `.fxb` text format: reading, the error messages, writing back. (The FE matrix and
+//! coordinate readers of `fxbody import` are tested with their crate, crates/import.)
 
 mod errors;
 mod fast;
-mod fe;
 mod read;
 mod roundtrip;

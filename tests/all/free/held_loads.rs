@@ -8,7 +8,7 @@ use fxbody::body::mass_props::mass_properties;
 use fxbody::solver::{Method, Options, build};
 use nalgebra::Vector3;
 
-use crate::common::blocked::Lcg;
+use crate::common::blocked::Rng;
 use crate::common::fixture_scene;
 use crate::common::springs::{cube_body, momentum};
 
@@ -88,18 +88,18 @@ fn each_step_delivers_its_impulse() {
                 scene.w0 = [0.3, -0.2, 0.5];
                 let mut s = build(&scene, method, &opts).unwrap();
                 let n6 = 6 * b.x.len();
-                let mut g = Lcg(11 + start as u64);
+                let mut g = Rng::new(11 + start as u64);
                 let (mut err, mut big) = (0.0f64, 0.0f64);
                 let mut p = momentum(&b, s.as_ref());
                 for k in 0..40 {
-                    let h = 4e-3 * (1.0 + 0.3 * g.next());
+                    let h = 4e-3 * (1.0 + 0.3 * g.symmetric());
                     let (mut loads, mut rate) = (vec![0.0; n6], vec![0.0; n6]);
                     if k >= start {
                         for node in [2, 5] {
                             for c in 0..6 {
-                                loads[6 * node + c] = 3.0 * g.next();
+                                loads[6 * node + c] = 3.0 * g.symmetric();
                                 if rates && k % 3 == 1 {
-                                    rate[6 * node + c] = 200.0 * g.next();
+                                    rate[6 * node + c] = 200.0 * g.symmetric();
                                 }
                             }
                         }

@@ -10,7 +10,7 @@ use std::sync::Arc;
 use fxbody::scene::Scene;
 use fxbody::solver::{Method, Options, Solver, build};
 
-use crate::common::blocked::{IDENTITY, Lcg, blocked_body, sdof};
+use crate::common::blocked::{IDENTITY, Rng, blocked_body, sdof};
 
 /// Mass of the free mode (x) and of the stiff mode (y), and the stiff mode's circular
 /// frequency.
@@ -46,14 +46,18 @@ fn history(
     rates: bool,
     seed: u64,
 ) -> Vec<(f64, [f64; 2], [f64; 2])> {
-    let mut g = Lcg(seed);
+    let mut g = Rng::new(seed);
     (0..n)
         .map(|k| {
-            let hk = h * (1.0 + 0.3 * g.next());
+            let hk = h * (1.0 + 0.3 * g.symmetric());
             let on = k >= start;
-            let f = if on { [g.next(), g.next()] } else { [0.0; 2] };
+            let f = if on {
+                [g.symmetric(), g.symmetric()]
+            } else {
+                [0.0; 2]
+            };
             let r = if on && rates && k % 3 == 1 {
-                [50.0 * g.next(), 50.0 * g.next()]
+                [50.0 * g.symmetric(), 50.0 * g.symmetric()]
             } else {
                 [0.0; 2]
             };

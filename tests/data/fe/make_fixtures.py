@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes the FE-reader fixtures of tests/all/format/fe.rs (standard library only).
+"""Writes the FE-reader fixtures of crates/import/tests/all/readers.rs (standard library only).
 
     python3 tests/data/fe/make_fixtures.py [OUT_DIR]   # default: this folder
 

@@ -6,7 +6,7 @@ pyNastran 1.4.1 pins numpy 1.x, so it lives in a venv of its own, not in the tes
     .venv-nastran/bin/python tests/data/fe/make_pynastran.py [OUT_DIR]
 
 (scripts/test.sh makes .venv-nastran from requirements-nastran.txt). The file is
-committed, so the Rust test (tests/all/format/fe.rs) needs no Python; the Python test
+committed, so the Rust test (crates/import/tests/all/readers.rs) needs no Python; the Python test
 tests/python/test_fe_fixtures.py writes it again with pyNastran during the run and
 checks that the committed copy is byte for byte what pyNastran writes. It holds
 GRID (large field), SPOINT and the KAAX and MAAX matrices of make_fixtures.py (the same

@@ -4,8 +4,6 @@
 //! finite-element reference, the cost per communication step, and writes a CSV and an
 //! SVG plot of the tip motion.
 
-mod svg;
-
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -13,6 +11,7 @@ use std::time::Instant;
 use fxbody::fmu::pack::{PackRequest, find_library, pack};
 use fxbody::fmu::scene_io::load_resources;
 use fxbody::solver::{self, Options};
+use fxbody_chart::{Curve, Panel, Scale, Style, svg};
 use fxbody_host::{FmuLibrary, file_uri};
 use serde_json::Value as Json;
 
@@ -274,26 +273,27 @@ pub fn run(args: &DemoArgs) -> Result<(), String> {
     std::fs::write(&csv, text).map_err(|e| format!("{}: {e}", csv.display()))?;
     let plot = args.out.join("cantilever_tip.svg");
     let ms: Vec<f64> = r.t.iter().map(|t| t * 1e3).collect();
-    let chart = svg::chart(
+    let curve = |label: &str, y: &[f64], color: &str, style| Curve {
+        label: label.into(),
+        color: color.into(),
+        points: ms.iter().copied().zip(y.iter().copied()).collect(),
+        style,
+    };
+    let chart = svg(
         &format!("Cantilever tip, 1 N step load at node {tip}"),
-        "time (ms)",
-        "tip deflection uy (m)",
-        &[
-            svg::Series {
-                label: "FMU (exact method)",
-                x: &ms,
-                y: &uy,
-                color: "#1f77b4",
-                dashed: false,
-            },
-            svg::Series {
-                label: "full FE model",
-                x: &ms,
-                y: &r.uy,
-                color: "#d62728",
-                dashed: true,
-            },
-        ],
+        &[Panel {
+            title: "the FMU against the full FE model".into(),
+            x_label: "time (ms)".into(),
+            y_label: "tip deflection uy (m)".into(),
+            x: Scale::Linear,
+            y: Scale::Linear,
+            curves: vec![
+                curve("FMU (exact method)", &uy, "#1f77b4", Style::Line),
+                curve("full FE model", &r.uy, "#d62728", Style::Dashed),
+            ],
+        }],
+        1,
+        (640.0, 360.0),
     );
     std::fs::write(&plot, chart).map_err(|e| format!("{}: {e}", plot.display()))?;
     println!("\nwrote {} and {}", csv.display(), plot.display());

@@ -1,0 +1,68 @@
+//! The commands the installed `fxbody` binary offers (issue 27, point 9): the user's
+//! commands, and not the research harness, which is a binary of its own
+//! (`fxbody-study`). Being an integration test of the cli package, it also makes
+//! `cargo test` build target/release/fxbody, which the root package's tests
+//! (tests/all/cli and others) run through `fxbody_host::workspace_binary`.
+
+use std::process::Command;
+
+/// The subcommand names `fxbody --help` lists (the indented first words of its
+/// "Commands:" section).
+fn commands() -> Vec<String> {
+    let out = Command::new(env!("CARGO_BIN_EXE_fxbody"))
+        .arg("--help")
+        .output()
+        .expect("the fxbody binary runs");
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout).unwrap();
+    text.lines()
+        .skip_while(|l| !l.starts_with("Commands:"))
+        .skip(1)
+        .take_while(|l| l.starts_with("  "))
+        .filter_map(|l| l.split_whitespace().next().map(str::to_string))
+        .collect()
+}
+
+#[test]
+fn the_installed_command_holds_the_users_commands_and_not_the_study() {
+    let names = commands();
+    for want in ["info", "pack", "import", "reduce", "demo"] {
+        assert!(names.iter().any(|n| n == want), "{want} missing: {names:?}");
+    }
+    assert!(!names.iter().any(|n| n == "study"), "{names:?}");
+}
+
+#[test]
+fn study_is_refused_as_an_unknown_command() {
+    let out = Command::new(env!("CARGO_BIN_EXE_fxbody"))
+        .args(["study", "--quick"])
+        .output()
+        .expect("the fxbody binary runs");
+    assert_eq!(out.status.code(), Some(2));
+    let e = String::from_utf8_lossy(&out.stderr);
+    assert!(e.contains("unrecognized subcommand 'study'"), "{e}");
+}
+
+/// The import library's errors name no option (issue 27.6): the command words them. A
+/// unit system it cannot read is refused naming `--units` once, with the text given.
+#[test]
+fn the_command_names_the_option_of_a_bad_value() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let out = std::env::temp_dir().join(format!("fxbody_cli_units_{}.fxb", std::process::id()));
+    let o = Command::new(env!("CARGO_BIN_EXE_fxbody"))
+        .arg("import")
+        .arg(root.join("tests/data/fe/punch.pch"))
+        .arg("--coords")
+        .arg(root.join("tests/data/fe/nodes.csv"))
+        .args(["--units", "mm-lb-s:m-kg-s", "-o"])
+        .arg(&out)
+        .output()
+        .expect("the fxbody binary runs");
+    assert_eq!(o.status.code(), Some(2));
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        e.contains("--units: unit systems 'mm-lb-s'") && e.matches("--units").count() == 1,
+        "{e}"
+    );
+    assert!(!out.exists());
+}
