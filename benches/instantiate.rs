@@ -16,9 +16,9 @@ use std::time::Instant;
 
 use fxbody::fmu::model::Model;
 use fxbody::fmu::pack::{PackRequest, find_library, pack};
-use fxbody::fmu::scene_io::make_scene;
 use fxbody::fmu::{hash::content_guid, options::SceneOptions};
 use fxbody::fxb::coords;
+use fxbody::scene::io::make_scene;
 use fxbody_host::FmuLibrary;
 
 #[path = "common/large_scene.rs"]

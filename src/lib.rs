@@ -25,7 +25,6 @@ pub mod fmu;
 pub mod fxb;
 pub mod import;
 pub mod num;
-pub mod reduce;
 pub mod scene;
 pub mod solver;
 #[cfg(test)]

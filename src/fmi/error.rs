@@ -7,8 +7,8 @@ use std::path::PathBuf;
 use super::fmu_state::HandleError;
 use super::uri::UriError;
 use crate::fmu::model::ModelError;
-use crate::fmu::scene_io::ResourceError;
 use crate::fmu::snapshot::SnapshotError;
+use crate::scene::io::ResourceError;
 
 /// A refused FMI call.
 #[derive(Debug, thiserror::Error)]

@@ -114,10 +114,7 @@ pub unsafe extern "C" fn fmi2Instantiate(
         let location = location.ok_or(FmiError::NoResourceLocation)?;
         let dir = resource_path(&location)?;
         let model = Model::from_resources(&dir)?;
-        let scene_file = dir
-            .join(crate::fmu::scene_io::SCENE_FILE)
-            .display()
-            .to_string();
+        let scene_file = dir.join(crate::scene::io::SCENE_FILE).display().to_string();
         warning = crate::body::invariance::check(&model.scene().body, &scene_file);
         if model.guid != guid {
             return Err(FmiError::GuidMismatch {

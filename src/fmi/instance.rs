@@ -285,7 +285,7 @@ mod tests {
     use super::*;
 
     fn instance() -> Box<Instance> {
-        let scene = crate::fmu::scene_io::cantilever_tip_scene();
+        let scene = crate::scene::io::cantilever_tip_scene();
         let callbacks = fmi2CallbackFunctions {
             logger: None,
             allocateMemory: None,

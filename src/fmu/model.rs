@@ -7,11 +7,11 @@ use std::path::Path;
 
 use super::guard::StepGuard;
 pub use super::model_error::{ModelError, StepRefused, TimeError};
-use super::scene_io::{ResourceError, Resources, load_resources};
 use super::snapshot::Snapshot;
 pub use super::time::{check_step_times, time_tolerance};
 use super::vars::{Causality, Kind, VarTable, method_name};
 use crate::scene::Scene;
+use crate::scene::io::{ResourceError, Resources, load_resources};
 use crate::solver::{self, Method, Options, Solver};
 
 mod outputs;

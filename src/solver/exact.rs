@@ -372,7 +372,7 @@ mod tests {
     use crate::testing::xorshift;
 
     fn cantilever(zeta: f64) -> Exact {
-        let scene = crate::fmu::scene_io::cantilever_tip_scene();
+        let scene = crate::scene::io::cantilever_tip_scene();
         let opts = Options {
             damping_ratio: zeta,
             ..Options::default()

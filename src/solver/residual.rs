@@ -1,6 +1,6 @@
 //! The static (residual-flexibility) correction of a truncated body, as a decorator over
 //! any solver: the dropped modes follow the load quasi-statically, so the exposed nodes
-//! move by `R f` on top of what the kept modes do ([`crate::reduce`]).
+//! move by `R f` on top of what the kept modes do ([`crate::scene::reduce`]).
 //!
 //! With `f(t) = f0 + fdot (t - t_set)` (held or linearly varying load, the solvers' load
 //! model), the correction adds `P R P^T f` to the positions, `P R P^T fdot` to the

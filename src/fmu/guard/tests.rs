@@ -18,7 +18,7 @@ fn outputs(m: &mut Model) -> Vec<f64> {
 /// full check, and refused).
 #[test]
 fn an_accepted_step_has_every_output_finite() {
-    let full = crate::fmu::scene_io::cantilever_tip_scene();
+    let full = crate::scene::io::cantilever_tip_scene();
     let (cut, _) = full.truncated(40.0).unwrap();
     let (mut fast, mut slow, mut refused) = (0, 0, 0);
     for scene in [full, cut] {
@@ -65,7 +65,7 @@ fn an_accepted_step_has_every_output_finite() {
 /// accepted steps equal a twin's whose guard saved the state before every step.
 #[test]
 fn a_refused_step_restores_after_any_change_between_steps() {
-    let full = crate::fmu::scene_io::cantilever_tip_scene();
+    let full = crate::scene::io::cantilever_tip_scene();
     let (cut, _) = full.truncated(40.0).unwrap();
     for scene in [full, cut] {
         let mut m = Model::new(scene.clone(), "{g}".into());
@@ -124,7 +124,7 @@ fn a_refused_step_restores_after_any_change_between_steps() {
 /// some steps.
 #[test]
 fn a_bounded_step_is_one_the_checked_path_accepts_alike() {
-    let scene = crate::fmu::scene_io::cantilever_tip_scene();
+    let scene = crate::scene::io::cantilever_tip_scene();
     let mut m = Model::new(scene.clone(), "{g}".into());
     let mut twin = Model::new(scene, "{g}".into());
     let vr = |name: &str| m.table.vars.iter().find(|v| v.name == name).unwrap().vr;
@@ -189,7 +189,7 @@ fn a_bounded_step_is_one_the_checked_path_accepts_alike() {
 fn a_state_below_the_bound_gives_finite_outputs_whatever_the_parameters() {
     use crate::solver::{Method, Options, build};
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    let blocked = crate::fmu::scene_io::cantilever_tip_scene();
+    let blocked = crate::scene::io::cantilever_tip_scene();
     let free = {
         let body = crate::body::load(&root.join("fixtures/freefree.fxb")).unwrap();
         let x = body.rigid_mode_positions().unwrap();

@@ -254,7 +254,7 @@ fn step_stop_and_method_reach_the_description_and_the_running_fmu() {
     let y_c: f64 = f[0].parse().unwrap();
     assert_eq!(f[1], "1", "method read back through TIP_VR_METHOD");
     assert_eq!(f[2], model.table.vars.len().to_string());
-    let res = fxbody::fmu::scene_io::load_resources(&unz.join("resources")).unwrap();
+    let res = fxbody::scene::io::load_resources(&unz.join("resources")).unwrap();
     let run_rust = |m: Method| {
         let mut s = solver::build(&res.scene, m, &Options::default()).unwrap();
         let mut loads = vec![0.0; 12];

@@ -9,9 +9,9 @@ use crate::common::fixture;
 use crate::common::fmu::{Slave, packed};
 use fxbody::fmu::model::{Model, Phase};
 use fxbody::fmu::pack::{Fmax, PackRequest, Prepared, prepare_with, resource_entries};
-use fxbody::fmu::scene_io::{OPTIONS_FILE, SCENE_FILE};
 use fxbody::fmu::vars::Kind;
 use fxbody::fmu::xml::default_experiment;
+use fxbody::scene::io::{OPTIONS_FILE, SCENE_FILE};
 
 /// Steps each pair of models runs.
 const STEPS: usize = 300;
@@ -305,7 +305,7 @@ fn every_damaged_scene_file_is_refused_at_instantiation_with_its_reason() {
 /// in the order the reader expects them.
 #[test]
 fn the_format_document_lists_every_section_in_file_order() {
-    use fxbody::fmu::scenefile::{SECTIONS, VERSION};
+    use fxbody::scene::file::{SECTIONS, VERSION};
     let doc = std::fs::read_to_string(crate::common::root().join("docs/SCENE_FORMAT.md")).unwrap();
     assert!(doc.starts_with(&format!(
         "# The scene file (`resources/scene.fxs`), format version {VERSION}"
@@ -379,14 +379,12 @@ fn refusal_of(
     edit: impl FnOnce(&mut fxbody::scene::Scene, &mut fxbody::body::Body),
 ) -> Option<String> {
     use std::sync::Arc;
-    let mut scene = fxbody::fmu::scenefile::from_bytes(good, "good")
-        .unwrap()
-        .scene;
+    let mut scene = fxbody::scene::file::from_bytes(good, "good").unwrap().scene;
     let mut body = (*scene.body).clone();
     edit(&mut scene, &mut body);
     scene.body = Arc::new(body);
     let path = dir.join("resources").join(SCENE_FILE);
-    std::fs::write(&path, fxbody::fmu::scenefile::to_bytes(&scene)).unwrap();
+    std::fs::write(&path, fxbody::scene::file::to_bytes(&scene)).unwrap();
     Model::from_resources(&dir.join("resources"))
         .err()
         .map(|e| e.to_string())
@@ -537,7 +535,7 @@ fn a_scene_file_is_checked_like_a_body_at_instantiation() {
             ));
         }
         if name == "cantilever cut" {
-            use fxbody::reduce::Residual;
+            use fxbody::scene::reduce::Residual;
             use std::sync::Arc;
             let edit_r = |f: fn(&mut nalgebra::DMatrix<f64>)| -> Edit {
                 Box::new(move |s, _| {

@@ -11,8 +11,6 @@ pub mod options;
 pub mod osp;
 pub mod pack;
 pub mod platforms;
-pub mod scene_io;
-pub mod scenefile;
 pub mod snapshot;
 mod time;
 pub mod vars;

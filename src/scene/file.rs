@@ -14,10 +14,10 @@
 
 use nalgebra::DMatrix;
 
-use super::hash::fnv1a64_words;
 use crate::body::Body;
-use crate::reduce::select_nodes;
+use crate::fmu::hash::fnv1a64_words;
 use crate::scene::Scene;
+use crate::scene::reduce::select_nodes;
 
 /// The first eight bytes of every scene file.
 pub const MAGIC: [u8; 8] = *b"FXBSCENE";
