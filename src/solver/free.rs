@@ -29,7 +29,7 @@ use crate::body::Body;
 use crate::scene::Scene;
 
 /// The [`crate::solver::Solver`] items every free method answers the same way from its
-/// coordinates `self.q`, its frame `self.p` and the shared [`Model`] `self.m` (positions,
+/// coordinates `self.q`, its frame `self.p` and the shared [`FreeScene`] `self.m` (positions,
 /// node rotations, modal coordinates, strain energy, the frame, the state wrapper for
 /// `$method`, the pending warning), written once. Invoked inside each method's
 /// `impl Solver`; the method writes `write_state`, `state_len`, `set_state` and the
@@ -265,10 +265,12 @@ pub(crate) fn omega_rate_from_frame(p: &Matrix3<f64>, v: &[f64]) -> Vector3<f64>
         - e3 * d1.dot(&d2)
 }
 
-/// The matrices of a free body restricted to a scene, and the kinematic maps shared by
-/// the free-body methods.
+/// A free body as one scene sees it: the body's matrices with the mode rows of the
+/// exposed nodes only, the scene's gravity and damping, and the kinematic maps every
+/// free method shares (coordinates to node outputs, nodal loads to generalised forces,
+/// energies). Each method holds one, as its field `m`.
 #[derive(Debug, Clone)]
-pub(crate) struct Model {
+pub(crate) struct FreeScene {
     /// Number of rigid coordinates (12 or 15).
     pub nr: usize,
     /// Number of local modes.
@@ -315,10 +317,10 @@ pub(crate) struct Model {
     pub mass_scale: f64,
 }
 
-impl Model {
+impl FreeScene {
     /// Check the body and collect what the methods need (`damping_ratio`: the added
     /// modal damping ratio, [`super::damping`]).
-    pub fn new(scene: &Scene, damping_ratio: f64) -> Result<Model, SolverError> {
+    pub fn new(scene: &Scene, damping_ratio: f64) -> Result<FreeScene, SolverError> {
         let body = &scene.body;
         let bad = |why: String| SolverError::Singular(why);
         if body.iblo {
@@ -393,7 +395,7 @@ impl Model {
                 .flat_map(|r| (0..a.ncols()).map(move |c| a[(r, c)]))
                 .collect()
         };
-        Ok(Model {
+        Ok(FreeScene {
             phi_r_rows: row_major(&phi_r),
             phi_l_rows: row_major(&phi_l),
             k_l_rows: row_major(&body.k_l),

@@ -49,7 +49,7 @@ use std::cell::RefCell;
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 
 use super::lu::Lu;
-use super::{Loads, MAX_FRAME_ERROR, Model, SPIN_STEP, frame_omega, point_vec, spin_warning};
+use super::{FreeScene, Loads, MAX_FRAME_ERROR, SPIN_STEP, frame_omega, point_vec, spin_warning};
 use super::{Undo, all_or_nothing};
 use crate::scene::Scene;
 use crate::solver::nodes::check_state;
@@ -58,7 +58,7 @@ use crate::solver::{Frame, MAX_INTERNAL_STEPS, Method, Options, Solver, SolverEr
 /// The explicit central-difference solver for a free body.
 #[derive(Debug, Clone)]
 pub struct Explicit {
-    m: Model,
+    m: FreeScene,
     opts: Options,
     dt_fx: f64,
     t: f64,
@@ -122,7 +122,7 @@ impl Explicit {
     /// Build the solver for a free-body scene, at rest or with the scene's initial
     /// velocity, at t = 0.
     pub fn new(scene: &Scene, opts: &Options) -> Result<Explicit, SolverError> {
-        let m = Model::new(scene, opts.damping_ratio)?;
+        let m = FreeScene::new(scene, opts.damping_ratio)?;
         let (nr, nl, nq) = (m.nr, m.nl, m.nq());
         // The local modes' stable step (the one `fxbody info` reports, shortened by an
         // added damping ratio); shortened below for the modes coupled to the rigid motion.

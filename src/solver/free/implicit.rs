@@ -38,7 +38,7 @@ use nalgebra::{DMatrix, DVector, Matrix3};
 
 use super::lu::Lu;
 use super::{
-    Loads, MAX_FRAME_ERROR, Model, PAIRS, frame_error, frame_invalid, frame_omega,
+    FreeScene, Loads, MAX_FRAME_ERROR, PAIRS, frame_error, frame_invalid, frame_omega,
     omega_rate_from_frame, point_vec, spin_warning,
 };
 use super::{Undo, all_or_nothing};
@@ -79,7 +79,7 @@ impl Params {
 /// The implicit (generalised-alpha) solver for a free body.
 #[derive(Debug, Clone)]
 pub struct Implicit {
-    m: Model,
+    m: FreeScene,
     par: Params,
     t: f64,
     q: DVector<f64>,
@@ -154,7 +154,7 @@ impl Implicit {
                 ),
             });
         }
-        let m = Model::new(scene, opts.damping_ratio)?;
+        let m = FreeScene::new(scene, opts.damping_ratio)?;
         let (nr, nl, nq, nc) = (m.nr, m.nl, m.nq(), m.nc());
         let mut v = DVector::zeros(nq);
         m.initial_velocity(scene.v0, scene.w0, &mut v);
@@ -371,7 +371,7 @@ pub const MAX_NEWTON_PER_STEP: usize = newton::MAX_ITER * ((2 << MAX_SPLIT) - 1)
 const _: () = assert!(MAX_NEWTON_PER_STEP as f64 <= MAX_INTERNAL_STEPS);
 
 /// The rigid mass M_R into the top-left of the reduced (rigid + constraint) matrix.
-fn fill_mass(m: &Model, kkt: &mut Lu) {
+fn fill_mass(m: &FreeScene, kkt: &mut Lu) {
     for i in 0..m.nr {
         for k in 0..m.nr {
             *kkt.at(i, k) = m.m_r[(i, k)];

@@ -31,7 +31,7 @@ mod rigid;
 use nalgebra::{DMatrix, DVector, Matrix3, Matrix6, SMatrix, Vector3, Vector6};
 
 use super::{
-    Loads, MAX_FRAME_ERROR, Model, SINGULAR_RATIO, frame_error, frame_invalid, point_offset,
+    FreeScene, Loads, MAX_FRAME_ERROR, SINGULAR_RATIO, frame_error, frame_invalid, point_offset,
     singular_error, spin_warning,
 };
 use super::{Undo, all_or_nothing};
@@ -51,7 +51,7 @@ pub const ROT_STEP: f64 = 0.1;
 /// The split (Strang) solver for a free body.
 #[derive(Debug, Clone)]
 pub struct Split {
-    m: Model,
+    m: FreeScene,
     t: f64,
     /// Displacement of L0 from its initial position.
     d: Vector3<f64>,
@@ -119,7 +119,7 @@ impl Split {
     /// `opts.damping_ratio` adds `2 zeta w_i` to every mode of the split's own basis
     /// (`K_L`, `m_eff`), on top of Rayleigh ([`crate::solver::damping`]).
     pub fn new(scene: &Scene, opts: &Options) -> Result<Split, SolverError> {
-        let m = Model::new(scene, opts.damping_ratio)?;
+        let m = FreeScene::new(scene, opts.damping_ratio)?;
         let zeta = opts.damping_ratio;
         let (nr, nl, nq) = (m.nr, m.nl, m.nq());
         // The file's P0 is a rotation to its printed digits only (1e-10 on the

@@ -6,7 +6,7 @@
 
 use nalgebra::Matrix3;
 
-use super::Model;
+use super::FreeScene;
 use crate::num::num;
 use crate::solver::SolverError;
 
@@ -137,7 +137,7 @@ pub const MAX_HALVINGS: u32 = 10;
 
 /// Spin-rate check at the end of a step: when `|omega|` passes `SPIN_WARN_RATIO x
 /// omega_1` for the first time in this solver's life, the warning text (else `None`).
-pub(crate) fn spin_warning(m: &Model, spin: f64, warned: &mut bool) -> Option<String> {
+pub(crate) fn spin_warning(m: &FreeScene, spin: f64, warned: &mut bool) -> Option<String> {
     if *warned || spin.is_nan() || spin <= SPIN_WARN_RATIO * m.omega1 {
         return None;
     }

@@ -7,8 +7,8 @@ use std::path::Path;
 
 use crate::common::fixture;
 use crate::common::fmu::{Slave, packed};
-use fxbody::fmu::model::{Model, Phase};
 use fxbody::fmu::pack::{Fmax, PackRequest, Prepared, prepare_with, resource_entries};
+use fxbody::fmu::simulation::{Phase, Simulation};
 use fxbody::fmu::vars::Kind;
 use fxbody::fmu::xml::default_experiment;
 use fxbody::scene::io::{OPTIONS_FILE, SCENE_FILE};
@@ -47,7 +47,7 @@ fn prepared(body: &str, fmax: bool) -> Prepared {
 /// Every value of every variable but `method` after each of [`STEPS`] steps under
 /// time-varying loads on every input (and gravity and a spin for a free body), and the
 /// refusal that ended the run early, if one did.
-fn run(mut m: Model, method: i32, h: f64) -> (Vec<u64>, Option<String>) {
+fn run(mut m: Simulation, method: i32, h: f64) -> (Vec<u64>, Option<String>) {
     let table = m.table.clone();
     let method_vr = table
         .vars
@@ -106,8 +106,8 @@ fn resources_run_bit_for_bit_as_the_fxb_on_every_fixture_and_method() {
             let p = prepared(body, fmax);
             let _ = std::fs::remove_dir_all(&dir);
             write_resources(&p, &dir);
-            let from_fxb = || Model::new(p.scene.clone(), p.guid.clone());
-            let from_file = || Model::from_resources(&dir.join("resources")).unwrap();
+            let from_fxb = || Simulation::new(p.scene.clone(), p.guid.clone());
+            let from_file = || Simulation::from_resources(&dir.join("resources")).unwrap();
             let m = from_file();
             assert_eq!(m.guid, p.guid, "{body}");
             // Only the exposed nodes' rows, only the kept modes.
@@ -371,7 +371,7 @@ fn embed_source_adds_the_body_file_and_nothing_else_changes() {
 
 /// A packed scene edited through the crate's own reader and writer (so the checksum is
 /// recomputed: the file is intact, its numbers are not), written into `dir`'s resources
-/// in place of the packed one; the refusal `Model::from_resources` (what fmi2Instantiate
+/// in place of the packed one; the refusal `Simulation::from_resources` (what fmi2Instantiate
 /// runs) gives, or `None` when the scene was accepted.
 fn refusal_of(
     dir: &Path,
@@ -385,7 +385,7 @@ fn refusal_of(
     scene.body = Arc::new(body);
     let path = dir.join("resources").join(SCENE_FILE);
     std::fs::write(&path, fxbody::scene::file::to_bytes(&scene)).unwrap();
-    Model::from_resources(&dir.join("resources"))
+    Simulation::from_resources(&dir.join("resources"))
         .err()
         .map(|e| e.to_string())
 }

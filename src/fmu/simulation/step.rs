@@ -1,27 +1,27 @@
 //! The step path of the model: one communication step (fmi2DoStep) under the step
 //! guard, and the refusal that puts the state from before the step back.
 
-use super::{Model, ModelError, StepRefused, check_step_times};
+use super::{Simulation, SimulationError, StepRefused, check_step_times};
 use crate::fmu::guard::{any_nonzero, largest_input};
 use crate::solver::{Solver, SolverError};
 
-impl Model {
+impl Simulation {
     /// One communication step from `t` to `t + h`. `Ok(Some(text))` is a completed step
     /// with a warning for the master (fmi2Warning).
-    pub fn do_step(&mut self, t: f64, h: f64) -> Result<Option<String>, ModelError> {
+    pub fn do_step(&mut self, t: f64, h: f64) -> Result<Option<String>, SimulationError> {
         let warned = self.step(t, h)?;
         Ok(if warned { self.warning.take() } else { None })
     }
 
-    /// [`Model::do_step`] without moving the warning: `Ok(true)` is a completed step with
-    /// a warning, which [`Model::take_warning`] gives. Inlined into fmi2DoStep, its one
+    /// [`Simulation::do_step`] without moving the warning: `Ok(true)` is a completed step with
+    /// a warning, which [`Simulation::take_warning`] gives. Inlined into fmi2DoStep, its one
     /// caller on the step path; refusing is out of line.
     #[inline(always)]
-    pub fn step(&mut self, t: f64, h: f64) -> Result<bool, ModelError> {
+    pub fn step(&mut self, t: f64, h: f64) -> Result<bool, SimulationError> {
         check_step_times(t, h, self.time, self.start_time, self.stop_time)?;
         self.ensure_solver()?;
         let Some(s) = self.solver.as_mut() else {
-            return Err(ModelError::NoSolver);
+            return Err(SimulationError::NoSolver);
         };
         // Either the step is bounded in advance and cannot make anything non-finite, or
         // the state before it is saved, to be put back if the step fails or leaves a
@@ -68,7 +68,7 @@ impl Model {
         Ok(warned)
     }
 
-    /// The warning of the last step that returned `Ok(true)` from [`Model::step`].
+    /// The warning of the last step that returned `Ok(true)` from [`Simulation::step`].
     pub fn take_warning(&mut self) -> Option<String> {
         self.warning.take()
     }
@@ -77,7 +77,7 @@ impl Model {
     /// under a load, that load is named too, being the usual cause.
     #[cold]
     #[inline(never)]
-    fn refuse_failed(&mut self, t: f64, h: f64, e: SolverError) -> ModelError {
+    fn refuse_failed(&mut self, t: f64, h: f64, e: SolverError) -> SimulationError {
         let loaded = self.loads.iter().chain(&self.rates).any(|&x| x != 0.0);
         let largest = loaded.then(|| largest_input(&self.table, &self.loads, &self.rates));
         self.refuse(t, h, e, largest)
@@ -86,7 +86,7 @@ impl Model {
     /// A step the guard refused: `what` would have become non-finite.
     #[cold]
     #[inline(never)]
-    fn refuse_non_finite(&mut self, t: f64, h: f64, what: String) -> ModelError {
+    fn refuse_non_finite(&mut self, t: f64, h: f64, what: String) -> SimulationError {
         let cause = SolverError::NonFinite {
             what,
             cause: format!(
@@ -106,7 +106,7 @@ impl Model {
         h: f64,
         cause: SolverError,
         largest_input: Option<String>,
-    ) -> ModelError {
+    ) -> SimulationError {
         let restored = match self.solver.as_mut() {
             Some(s) => self.guard.rollback(s.as_mut()),
             None => Ok(()),
@@ -114,7 +114,7 @@ impl Model {
         // The solver gets the loads and rates again at the next step.
         self.loads_dirty = true;
         self.rates_applied = true;
-        ModelError::StepRefused(Box::new(StepRefused {
+        SimulationError::StepRefused(Box::new(StepRefused {
             t,
             h,
             cause,
