@@ -12,7 +12,7 @@ pub use super::time::{check_step_times, time_tolerance};
 use super::vars::{Causality, Kind, VarTable, method_name};
 use crate::scene::Scene;
 use crate::scene::io::{ResourceError, Resources, load_resources};
-use crate::solver::{self, Method, Options, Solver};
+use crate::solver::{self, Method, Options, Solver, SolverWarning};
 
 mod outputs;
 mod step;
@@ -40,10 +40,8 @@ pub struct Simulation {
     loads: Vec<f64>,
     rates: Vec<f64>,
     solver: Option<Box<dyn Solver>>,
-    /// The solver can raise warnings ([`Solver::can_warn`]), asked when it is built.
-    solver_warns: bool,
     /// The last step's warning, until taken.
-    warning: Option<String>,
+    warning: Option<SolverWarning>,
     /// Parameters changed since the solver was built.
     dirty: bool,
     /// Loads changed since they were last passed to the solver.
@@ -94,7 +92,6 @@ impl Simulation {
             loads: vec![0.0; 6 * m],
             rates: vec![0.0; 6 * m],
             solver: None,
-            solver_warns: false,
             warning: None,
             dirty: true,
             loads_dirty: true,
@@ -170,8 +167,7 @@ impl Simulation {
                 source,
             }
         })?;
-        self.solver_warns = s.can_warn();
-        self.guard.adopt(s.as_ref(), &self.scene, &self.opts);
+        self.guard.adopt(&self.scene, &self.opts);
         self.solver = Some(s);
         self.dirty = false;
         self.loads_dirty = true;

@@ -81,6 +81,13 @@ impl Loads {
         self.rates.copy_from_slice(rates);
     }
 
+    /// Take the values, rates and time of `other` (same length), without allocating.
+    pub fn copy_from(&mut self, other: &Loads) {
+        self.values.copy_from_slice(&other.values);
+        self.rates.copy_from_slice(&other.rates);
+        self.t_set = other.t_set;
+    }
+
     /// Number of state values (either layout).
     pub fn state_len(&self) -> usize {
         2 * self.values.len() + 1

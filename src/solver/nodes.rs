@@ -221,6 +221,76 @@ pub fn check_state(
     Ok(())
 }
 
+/// The [`super::Solver`] items the exact and the implicit method answer alike from their
+/// modal state (they step the same mass-normalised modes): the method and time, the
+/// loads, the outputs read through the exposed rows from the modal amplitudes `self.y`
+/// and the modal velocities `self.$v`, the local coordinates, both energies and the
+/// state items of [`super::rollback`]. Invoked inside each method's `impl Solver`; the
+/// method writes `step`, the accelerations and `set_state` itself, and `refresh` (run
+/// after the loads changed: the acceleration output of the implicit method holds them).
+macro_rules! modal_solver_items {
+    ($method:expr, $v:ident) => {
+        fn method(&self) -> $crate::solver::Method {
+            $method
+        }
+
+        fn time(&self) -> f64 {
+            self.time
+        }
+
+        fn set_loads(&mut self, loads: &[f64]) -> Result<(), $crate::solver::SolverError> {
+            self.io.set_loads(loads, self.time)?;
+            self.refresh();
+            Ok(())
+        }
+
+        fn set_load_rates(&mut self, rates: &[f64]) -> Result<(), $crate::solver::SolverError> {
+            self.io.set_rates(rates, self.time)?;
+            self.refresh();
+            Ok(())
+        }
+
+        fn positions(&self, out: &mut [f64]) {
+            self.io.positions(&self.y, out);
+        }
+
+        fn position(&self, k: usize) -> Option<f64> {
+            self.io.position(k, &self.y)
+        }
+
+        fn velocities(&self, out: &mut [f64]) {
+            self.io.translations(&self.$v, out);
+        }
+
+        fn rotation_rates(&self, out: &mut [f64]) {
+            self.io.rotations(&self.$v, out);
+        }
+
+        fn rotations(&self, out: &mut [f64]) {
+            self.io.rotations(&self.y, out);
+        }
+
+        fn modal(&self) -> &[f64] {
+            self.alpha.get(&self.basis, &self.y)
+        }
+
+        fn strain_energy(&self) -> f64 {
+            $crate::solver::nodes::modal_strain_energy(&self.y, &self.w2)
+        }
+
+        fn kinetic_energy(&self) -> f64 {
+            0.5 * self.$v.norm_squared()
+        }
+
+        fn frame(&self) -> Option<$crate::solver::Frame> {
+            None
+        }
+
+        $crate::solver::rollback::rollback_items!();
+    };
+}
+pub(crate) use modal_solver_items;
+
 /// The local coordinates `alpha = S y`, computed on the first request after a step and
 /// kept until the next one. `modal()` hands out a slice from `&self`, so the value lives
 /// in a cell filled on demand; the buffer moves between `value` and `spare` so that
