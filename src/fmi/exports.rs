@@ -2,7 +2,7 @@
 //! platform and version, logging, instantiate and free, setup, initialisation,
 //! terminate, reset, doStep, cancel and the status queries. The value exports are in
 //! [`super::values`], the FMU-state ones in [`super::fmu_state`]: 34 in all, exported
-//! unprefixed. Each converts its pointer arguments and hands over to [`enter`] (state
+//! unprefixed. Each converts its pointer arguments and hands over to `enter` (state
 //! mask, panic barrier, logging) and the safe model in [`crate::fmu::simulation`].
 
 #![allow(non_snake_case, clippy::missing_safety_doc)]

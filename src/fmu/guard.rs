@@ -8,7 +8,7 @@
 //! exact method, loads held), the guard keeps a running upper bound of the solver's
 //! [`BoundedStep::measure`] and of every load's magnitude (the model reports each load
 //! as it is set, [`StepGuard::note_load`]); when the bound after the step keeps every
-//! state entry and input below [`output_bound`], the step cannot make anything
+//! state entry and input below `output_bound`, the step cannot make anything
 //! non-finite, so the guard asks for no checkpoint and reads nothing: a few
 //! multiplications per step. When the bound says "maybe" (after a restore, or with a
 //! stale load magnitude) it is first tightened from the actual state and loads; only if

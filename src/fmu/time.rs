@@ -17,8 +17,8 @@ const TIME_ULPS: f64 = 16.0;
 const TIME_STEP_FRACTION: f64 = 1e-9;
 
 /// How far two times `a` and `b` may be apart and still name the same instant, for a step
-/// of size `h` in a run that started at `start`: [`TIME_ULPS`] spacings at the largest
-/// magnitude plus [`TIME_STEP_FRACTION`] of `h`. NaN or infinite inputs give NaN or
+/// of size `h` in a run that started at `start`: `TIME_ULPS` spacings at the largest
+/// magnitude plus `TIME_STEP_FRACTION` of `h`. NaN or infinite inputs give NaN or
 /// infinity: callers check finiteness first.
 pub fn time_tolerance(a: f64, b: f64, start: f64, h: f64) -> f64 {
     let big = a.abs().max(b.abs()).max(start.abs());

@@ -88,7 +88,7 @@ pub fn parse_int(text: &[u8]) -> Option<i64> {
 /// Non-finite results (overflow, `NaN`, `Inf`) are rejected: the file must hold numbers.
 ///
 /// Text already in Rust's own syntax (no `D`, no letterless exponent) is read by
-/// [`plain_real`]; the rest is rewritten into that syntax and given to `str::parse`. Both
+/// `plain_real`; the rest is rewritten into that syntax and given to `str::parse`. Both
 /// are correctly rounded values of the same decimal number, so they agree bit for bit
 /// (tested).
 pub fn parse_real(text: &[u8]) -> Option<f64> {

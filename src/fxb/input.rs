@@ -257,7 +257,7 @@ pub fn read_regular(path: &Path) -> io::Result<Vec<u8>> {
 }
 
 /// The most bytes a `.fxb` file with this 7-integer header can sensibly need:
-/// [`BYTES_PER_VALUE`] per value the counts call for, plus [`SLACK`].
+/// `BYTES_PER_VALUE` per value the counts call for, plus `SLACK`.
 pub fn size_bound(header: &[i64; 7]) -> u128 {
     let [nl, _ns, n, irot, _idamp, _iblo, _ifile] = header.map(|v| v.max(0) as u128);
     let nr = if irot > 0 { 15 } else { 12 };

@@ -30,7 +30,7 @@
 //!
 //! Modes that do not oscillate (damping `d >= 2 omega`, for example with
 //! `damping.ratio >= 1`) are advanced exactly, with the exact method's transition
-//! ([`super::expm::mode_coefficients`]): numerical dissipation of unresolved oscillation,
+//! (`expm::mode_coefficients`): numerical dissipation of unresolved oscillation,
 //! the reason for generalised-alpha, has nothing to act on there, and in its overdamped
 //! limit (`d h >> 1`) generalised-alpha moves a mode against a step load by
 //! `(gamma - 1/2)^2 / 4 F h^2` that never decays (a cantilever under a tip force with

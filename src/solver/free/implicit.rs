@@ -360,7 +360,7 @@ impl Implicit {
     }
 }
 
-/// The most Newton iterations one step can take: [`MAX_ITER`](newton) per piece over
+/// The most Newton iterations one step can take: `newton::MAX_ITER` per piece over
 /// 1 + 2 + 4 + ... + 2^MAX_SPLIT pieces. It is within [`MAX_INTERNAL_STEPS`] (checked at
 /// compile time), so the implicit method needs no step-size refusal: its work per call
 /// is bounded whatever h.
