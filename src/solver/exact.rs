@@ -28,7 +28,7 @@ use nalgebra::{DMatrix, DVector};
 
 use super::damping::LocalDamping;
 use super::expm::mode_coefficients;
-use super::nodes::{Exposed, LocalCoords, check_state, modal_basis, modal_solver_items};
+use super::nodes::{Exposed, LocalCoords, modal_basis, modal_solver_items};
 use super::rollback::{Restorable, Rollback};
 use super::{BoundedStep, Growth, Method, Options, Solver, SolverError, SolverWarning, State};
 use crate::scene::Scene;
@@ -268,14 +268,8 @@ impl Solver for Exact {
     }
 
     fn set_state(&mut self, state: &State) -> Result<(), SolverError> {
-        check_state(state, Method::Exact, self.state_len())?;
-        let d = &state.data;
-        let nl = self.y.len();
-        let k = 1 + self.io.saved_len();
-        self.time = d[0];
-        self.io.restore(&d[1..k]);
-        self.y.copy_from_slice(&d[k..k + nl]);
-        self.yd.copy_from_slice(&d[k + nl..k + 2 * nl]);
+        let parts = &mut [self.y.as_mut_slice(), self.yd.as_mut_slice()];
+        self.time = self.io.read_state(state, Method::Exact, parts)?;
         self.alpha.invalidate();
         self.rollback.forget();
         Ok(())
@@ -292,15 +286,12 @@ impl Restorable for Exact {
     }
 
     fn write_state(&self, data: &mut Vec<f64>) {
-        data.clear();
-        data.push(self.time);
-        self.io.save(data);
-        data.extend_from_slice(self.y.as_slice());
-        data.extend_from_slice(self.yd.as_slice());
+        let parts = [self.y.as_slice(), self.yd.as_slice()];
+        self.io.write_state(data, self.time, &parts);
     }
 
     fn state_len(&self) -> usize {
-        1 + self.io.saved_len() + 2 * self.y.len()
+        self.io.state_len(&[self.y.as_slice(), self.yd.as_slice()])
     }
 }
 

@@ -285,23 +285,33 @@ impl Solver for Explicit {
 
     fn set_state(&mut self, state: &State) -> Result<(), SolverError> {
         check_state(state, Method::Explicit, self.state_len())?;
-        let d = &state.data;
-        let nl = self.q.len();
-        let k = 1 + self.io.saved_len();
-        if d[k] < 0.0 {
+        if state.data[1 + self.io.saved_len()] < 0.0 {
             return Err(SolverError::BadState("negative last step size".into()));
         }
-        self.time = d[0];
-        self.io.restore(&d[1..k]);
-        self.dt1 = d[k];
-        let k = k + 1;
-        self.q.copy_from_slice(&d[k..k + nl]);
-        self.vh.copy_from_slice(&d[k + nl..k + 2 * nl]);
-        self.fend.copy_from_slice(&d[k + 2 * nl..k + 3 * nl]);
+        let parts = &mut [
+            std::slice::from_mut(&mut self.dt1),
+            self.q.as_mut_slice(),
+            self.vh.as_mut_slice(),
+            self.fend.as_mut_slice(),
+        ];
+        self.time = self.io.read_state(state, Method::Explicit, parts)?;
         self.refresh_products();
         self.update_outputs();
         self.rollback.forget();
         Ok(())
+    }
+}
+
+impl Explicit {
+    /// The state after the time and the load part: the last step size, then `q`,
+    /// `v^(n-1/2)` and the generalised load at the end of the last step.
+    fn parts(&self) -> [&[f64]; 4] {
+        [
+            std::slice::from_ref(&self.dt1),
+            self.q.as_slice(),
+            self.vh.as_slice(),
+            self.fend.as_slice(),
+        ]
     }
 }
 
@@ -311,16 +321,10 @@ impl Restorable for Explicit {
     }
 
     fn write_state(&self, data: &mut Vec<f64>) {
-        data.clear();
-        data.push(self.time);
-        self.io.save(data);
-        data.push(self.dt1);
-        data.extend_from_slice(self.q.as_slice());
-        data.extend_from_slice(self.vh.as_slice());
-        data.extend_from_slice(self.fend.as_slice());
+        self.io.write_state(data, self.time, &self.parts());
     }
 
     fn state_len(&self) -> usize {
-        2 + self.io.saved_len() + 3 * self.q.len()
+        self.io.state_len(&self.parts())
     }
 }

@@ -193,6 +193,43 @@ impl Exposed {
         self.project_loads();
         self.project_rates();
     }
+
+    /// The length of a blocked method's state: the time, the load part and `parts`.
+    pub fn state_len(&self, parts: &[&[f64]]) -> usize {
+        1 + self.saved_len() + parts.iter().map(|p| p.len()).sum::<usize>()
+    }
+
+    /// Write a blocked method's state into `data` (cleared first): the time `time`, the
+    /// load part, then each of `parts` whole. No allocation once `data` has held it.
+    pub fn write_state(&self, data: &mut Vec<f64>, time: f64, parts: &[&[f64]]) {
+        data.clear();
+        data.push(time);
+        self.save(data);
+        for p in parts {
+            data.extend_from_slice(p);
+        }
+    }
+
+    /// Read a state [`Exposed::write_state`] wrote for `method`: checked whole first
+    /// ([`check_state`]), then the load part restored and `parts` filled; the time is
+    /// returned. Refused with nothing changed when the state does not fit.
+    pub fn read_state(
+        &mut self,
+        state: &super::State,
+        method: super::Method,
+        parts: &mut [&mut [f64]],
+    ) -> Result<f64, SolverError> {
+        let len = 1 + self.saved_len() + parts.iter().map(|p| p.len()).sum::<usize>();
+        check_state(state, method, len)?;
+        let d = &state.data;
+        let mut k = 1 + self.saved_len();
+        self.restore(&d[1..k]);
+        for p in parts {
+            p.copy_from_slice(&d[k..k + p.len()]);
+            k += p.len();
+        }
+        Ok(d[0])
+    }
 }
 
 /// Cut a saved state into its parts after checking method and length.
