@@ -16,8 +16,8 @@ use std::process::Command;
 use std::time::Instant;
 
 use fxbody::fmu::pack::{PackRequest, find_library, pack};
-use fxbody::fmu::scene_io::load_resources;
 use fxbody::scene::Scene;
+use fxbody::scene::io::load_resources;
 use fxbody::solver::{self, Method, Options, Solver};
 
 /// Rounds of (a) and (b), alternating.

@@ -15,7 +15,6 @@ use std::time::Instant;
 use fxbody::body::load as load_body;
 use fxbody::body::{Body, stable_step};
 use fxbody::scene::Scene;
-use fxbody::solver::free::coords_from_rigid_modes;
 use fxbody::solver::{Method, Options, build};
 
 /// Best time per step (seconds) over `rounds` rounds of `steps` steps each.
@@ -45,7 +44,7 @@ fn time_steps(scene: &Scene, method: Method, h: f64, steps: usize, rounds: usize
 }
 
 fn scene(body: &Arc<Body>, nodes: Vec<usize>) -> Scene {
-    let all = coords_from_rigid_modes(body);
+    let all = body.rigid_mode_positions().unwrap_or_default();
     let x0 = nodes.iter().map(|&n| all[n]).collect();
     Scene::new(body.clone(), nodes, x0)
 }

@@ -14,11 +14,11 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
-use fxbody::fmu::model::Model;
 use fxbody::fmu::pack::{PackRequest, find_library, pack};
-use fxbody::fmu::scene_io::make_scene;
+use fxbody::fmu::simulation::Simulation;
 use fxbody::fmu::{hash::content_guid, options::SceneOptions};
 use fxbody::fxb::coords;
+use fxbody::scene::io::make_scene;
 use fxbody_host::FmuLibrary;
 
 #[path = "common/large_scene.rs"]
@@ -136,7 +136,7 @@ fn main() {
         let scene = make_scene(body, &map, &options, "body").unwrap();
         let guid = content_guid(&[b"fxbody", &bytes, &csv, options.to_text().as_bytes()]);
         drop(bytes);
-        let mut m = Model::new(scene, guid);
+        let mut m = Simulation::new(scene, guid);
         m.setup(0.0, None).unwrap();
         m.ensure_solver().unwrap();
         times.push(t.elapsed().as_secs_f64() * 1e3);

@@ -13,8 +13,8 @@ use std::time::Instant;
 use fxbody::body::load as load_body;
 use fxbody::body::stable_step;
 use fxbody::fxb::coords;
-use fxbody::reduce::ModalBasis;
 use fxbody::scene::Scene;
+use fxbody::scene::reduce::ModalBasis;
 use fxbody::solver::{Method, Options, build};
 
 /// Median time (s) of one cycle over `reps` cycles, after one warm-up cycle.

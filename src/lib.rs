@@ -23,6 +23,5 @@ pub mod fmi;
 pub mod fmu;
 pub mod fxb;
 pub mod num;
-pub mod reduce;
 pub mod scene;
 pub mod solver;

@@ -6,7 +6,11 @@ use std::sync::Arc;
 use nalgebra::DMatrix;
 
 use crate::body::Body;
-use crate::reduce::{ReduceError, Residual, Truncation, truncate};
+pub mod file;
+pub mod io;
+pub mod reduce;
+
+use reduce::{ReduceError, Residual, Truncation, truncate};
 
 /// A body and the part of it a simulation couples to.
 ///
@@ -67,7 +71,7 @@ impl Scene {
 
     /// The same scene with the body truncated to the modes of (K_L, m_L) up to
     /// `fmax_hz` and the dropped modes' static flexibility at the exposed nodes kept as
-    /// the residual ([`crate::reduce`]). Truncating an already truncated scene keeps its
+    /// the residual ([`crate::scene::reduce`]). Truncating an already truncated scene keeps its
     /// residual and adds the newly dropped modes' flexibility to it.
     pub fn truncated(&self, fmax_hz: f64) -> Result<(Scene, Truncation), ReduceError> {
         let t = truncate(&self.body, fmax_hz)?;

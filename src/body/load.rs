@@ -109,7 +109,7 @@ mod tests {
     #[test]
     fn the_format_layer_does_not_depend_on_the_body_layer() {
         let sources = [
-            include_str!("../fxb/mod.rs"),
+            include_str!("../fxb.rs"),
             include_str!("../fxb/coords.rs"),
             include_str!("../fxb/error.rs"),
             include_str!("../fxb/fast.rs"),

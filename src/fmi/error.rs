@@ -6,9 +6,9 @@ use std::path::PathBuf;
 
 use super::fmu_state::HandleError;
 use super::uri::UriError;
-use crate::fmu::model::ModelError;
-use crate::fmu::scene_io::ResourceError;
+use crate::fmu::simulation::SimulationError;
 use crate::fmu::snapshot::SnapshotError;
+use crate::scene::io::ResourceError;
 
 /// A refused FMI call.
 #[derive(Debug, thiserror::Error)]
@@ -91,7 +91,7 @@ pub enum FmiError {
     Resources(#[from] ResourceError),
     /// The model refused the call.
     #[error(transparent)]
-    Model(#[from] ModelError),
+    Simulation(#[from] SimulationError),
     /// Serialised state bytes refused.
     #[error(transparent)]
     Snapshot(#[from] SnapshotError),

@@ -3,7 +3,7 @@
 //! terminate, reset, doStep, cancel and the status queries. The value exports are in
 //! [`super::values`], the FMU-state ones in [`super::fmu_state`]: 34 in all, exported
 //! unprefixed. Each converts its pointer arguments and hands over to `enter` (state
-//! mask, panic barrier, logging) and the safe model in [`crate::fmu::model`].
+//! mask, panic barrier, logging) and the safe model in [`crate::fmu::simulation`].
 
 #![allow(non_snake_case, clippy::missing_safety_doc)]
 
@@ -15,7 +15,7 @@ use super::instance::*;
 use super::state::{self, FmiState};
 use super::types::*;
 use super::uri::resource_path;
-use crate::fmu::model::Model;
+use crate::fmu::simulation::Simulation;
 
 /// "default": the standard C types of fmi2TypesPlatform.h.
 #[unsafe(no_mangle)]
@@ -113,17 +113,14 @@ pub unsafe extern "C" fn fmi2Instantiate(
         let guid = guid.ok_or(FmiError::Null("fmuGUID"))?;
         let location = location.ok_or(FmiError::NoResourceLocation)?;
         let dir = resource_path(&location)?;
-        let model = Model::from_resources(&dir)?;
-        let scene_file = dir
-            .join(crate::fmu::scene_io::SCENE_FILE)
-            .display()
-            .to_string();
-        warning = crate::body::invariance::check(&model.scene().body, &scene_file);
-        if model.guid != guid {
+        let simulation = Simulation::from_resources(&dir)?;
+        let scene_file = dir.join(crate::scene::io::SCENE_FILE).display().to_string();
+        warning = crate::body::invariance::check(&simulation.scene().body, &scene_file);
+        if simulation.guid != guid {
             return Err(FmiError::GuidMismatch {
                 given: guid,
                 dir,
-                found: model.guid,
+                found: simulation.guid,
             });
         }
         Ok(Box::new(Instance {
@@ -134,7 +131,7 @@ pub unsafe extern "C" fn fmi2Instantiate(
             ),
             state: FmiState::Instantiated,
             before_error: FmiState::Instantiated,
-            model,
+            simulation,
         }))
     }));
     match result {
@@ -144,7 +141,7 @@ pub unsafe extern "C" fn fmi2Instantiate(
                     .send(fmi2Warning, LOG_WARNING, &format!("fmi2Instantiate: {w}"));
             }
             if inst.log.on(LOG_SOLVER) {
-                let m = &inst.model;
+                let m = &inst.simulation;
                 inst.log.send(
                     fmi2OK,
                     LOG_SOLVER,
@@ -205,7 +202,7 @@ pub unsafe extern "C" fn fmi2SetupExperiment(
 ) -> fmi2Status {
     let _ = (toleranceDefined, tolerance); // not needed by this FMU
     enter(c, "fmi2SetupExperiment", state::SETUP_EXPERIMENT, |inst| {
-        inst.model.setup(
+        inst.simulation.setup(
             startTime,
             (stopTimeDefined != fmi2False).then_some(stopTime),
         )?;
@@ -214,7 +211,7 @@ pub unsafe extern "C" fn fmi2SetupExperiment(
 }
 
 fn build_solver(inst: &mut Instance) -> Result<(), FmiError> {
-    if let Some(msg) = inst.model.ensure_solver()? {
+    if let Some(msg) = inst.simulation.ensure_solver()? {
         inst.log.send(fmi2OK, LOG_SOLVER, &msg);
     }
     Ok(())
@@ -275,7 +272,7 @@ pub unsafe extern "C" fn fmi2Terminate(c: fmi2Component) -> fmi2Status {
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2Reset(c: fmi2Component) -> fmi2Status {
     enter(c, "fmi2Reset", state::RESET, |inst| {
-        inst.model.reset();
+        inst.simulation.reset();
         inst.state = FmiState::Instantiated;
         Ok(fmi2OK)
     })
@@ -295,7 +292,7 @@ pub unsafe extern "C" fn fmi2DoStep(
     let _ = noSetFMUStatePriorToCurrentPoint; // not needed by this FMU
     enter(c, "fmi2DoStep", state::DO_STEP, |inst| {
         let warned = inst
-            .model
+            .simulation
             .step(currentCommunicationPoint, communicationStepSize)?;
         Ok(if warned { step_warning(inst) } else { fmi2OK })
     })
@@ -305,7 +302,7 @@ pub unsafe extern "C" fn fmi2DoStep(
 #[cold]
 #[inline(never)]
 fn step_warning(inst: &mut Instance) -> fmi2Status {
-    let warning = inst.model.take_warning().unwrap_or_default();
+    let warning = inst.simulation.take_warning().unwrap_or_default();
     inst.log
         .send(fmi2Warning, LOG_WARNING, &format!("fmi2DoStep: {warning}"));
     fmi2Warning
@@ -365,7 +362,7 @@ pub unsafe extern "C" fn fmi2GetRealStatus(
             return Err(FmiError::Null("value pointer"));
         }
         // SAFETY: non-null and writable (FMI contract).
-        unsafe { *value = inst.model.time() };
+        unsafe { *value = inst.simulation.time() };
         Ok(fmi2OK)
     })
 }

@@ -181,7 +181,7 @@ unsafe fn handle<'a>(s: fmi2FMUstate, guid: &str) -> Result<&'a mut Handle, Hand
 fn snapshot_of(inst: &Instance) -> Snapshot {
     // In Error the model holds the state before the error: record that one, so that a
     // state saved in Error restores to a legal state.
-    inst.model.snapshot(inst.phase().code())
+    inst.simulation.snapshot(inst.phase().code())
 }
 
 /// Save the complete state (solver, inputs, time, FMI phase). A non-NULL `*state`
@@ -198,7 +198,7 @@ pub unsafe extern "C" fn fmi2GetFMUstate(c: fmi2Component, state: *mut fmi2FMUst
         }
         let snap = snapshot_of(inst);
         // SAFETY: non-null and writable (FMI contract).
-        unsafe { store_state(state, snap, &inst.model.guid) }
+        unsafe { store_state(state, snap, &inst.simulation.guid) }
     })
 }
 
@@ -226,7 +226,7 @@ unsafe fn store_state(state: *mut fmi2FMUstate, snap: Snapshot, guid: &str) -> O
 
 fn restore(inst: &mut Instance, snap: &Snapshot) -> Outcome {
     let phase = FmiState::from_code(snap.phase).ok_or(FmiError::UnknownPhase(snap.phase))?;
-    inst.model.restore(snap)?;
+    inst.simulation.restore(snap)?;
     inst.state = phase;
     Ok(fmi2OK)
 }
@@ -239,7 +239,9 @@ fn restore(inst: &mut Instance, snap: &Snapshot) -> Outcome {
 pub unsafe extern "C" fn fmi2SetFMUstate(c: fmi2Component, state: fmi2FMUstate) -> fmi2Status {
     enter(c, "fmi2SetFMUstate", state::SET_FMU_STATE, |inst| {
         // SAFETY: `state` is a live state (FMI contract); its header is checked first.
-        let snap = unsafe { handle(state, &inst.model.guid) }?.snap.clone();
+        let snap = unsafe { handle(state, &inst.simulation.guid) }?
+            .snap
+            .clone();
         restore(inst, &snap)
     })
 }
@@ -265,7 +267,7 @@ pub unsafe extern "C" fn fmi2FreeFMUstate(
         // SAFETY: a live handle (FMI contract); checked to be this build's for this FMU,
         // so it is a Box<Handle> made here, freed once as `*state` is then cleared.
         unsafe {
-            let h: *mut Handle = handle(s, &inst.model.guid)?;
+            let h: *mut Handle = handle(s, &inst.simulation.guid)?;
             drop(Box::from_raw(h));
             *state = std::ptr::null_mut();
         }
@@ -289,11 +291,11 @@ pub unsafe extern "C" fn fmi2SerializedFMUstateSize(
         state::GET_FMU_STATE,
         |inst| {
             // SAFETY: `state` is a live state; its header is checked first.
-            let snap = &unsafe { handle(state, &inst.model.guid) }?.snap;
+            let snap = &unsafe { handle(state, &inst.simulation.guid) }?.snap;
             if size.is_null() {
                 return Err(FmiError::Null("size pointer"));
             }
-            let n = snap.to_bytes(&inst.model.guid).len();
+            let n = snap.to_bytes(&inst.simulation.guid).len();
             // SAFETY: non-null and writable (FMI contract).
             unsafe { *size = n };
             Ok(fmi2OK)
@@ -315,8 +317,8 @@ pub unsafe extern "C" fn fmi2SerializeFMUstate(
 ) -> fmi2Status {
     enter(c, "fmi2SerializeFMUstate", state::GET_FMU_STATE, |inst| {
         // SAFETY: `state` is a live state; its header is checked first.
-        let snap = &unsafe { handle(state, &inst.model.guid) }?.snap;
-        let bytes = snap.to_bytes(&inst.model.guid);
+        let snap = &unsafe { handle(state, &inst.simulation.guid) }?.snap;
+        let bytes = snap.to_bytes(&inst.simulation.guid);
         if size != bytes.len() {
             return Err(FmiError::BufferTooSmall {
                 size,
@@ -348,11 +350,11 @@ pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
         if state.is_null() {
             return Err(FmiError::Null("FMUstate pointer"));
         }
-        let snap = Snapshot::from_bytes(bytes, &inst.model.guid)?;
-        if snap.loads.len() != 6 * inst.model.scene().nodes.len() {
+        let snap = Snapshot::from_bytes(bytes, &inst.simulation.guid)?;
+        if snap.loads.len() != 6 * inst.simulation.scene().nodes.len() {
             return Err(FmiError::StateInputs);
         }
         // SAFETY: `state` is non-null and writable, `*state` NULL or live (FMI contract).
-        unsafe { store_state(state, snap, &inst.model.guid) }
+        unsafe { store_state(state, snap, &inst.simulation.guid) }
     })
 }

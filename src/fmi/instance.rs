@@ -8,7 +8,7 @@ use std::panic::{AssertUnwindSafe, catch_unwind};
 use super::FmiError;
 use super::state::FmiState;
 use super::types::*;
-use crate::fmu::model::Model;
+use crate::fmu::simulation::Simulation;
 
 /// Log categories, in the order of `crate::fmu::xml::LOG_CATEGORIES` (a test checks).
 pub const CATEGORIES: [&CStr; 4] = [
@@ -105,8 +105,8 @@ pub struct Instance {
     /// save in Error answers as that state would, and a state saved in Error restores to
     /// it (never to Error).
     pub before_error: FmiState,
-    /// The model.
-    pub model: Model,
+    /// The simulation behind the handle: parameters, inputs, the solver, outputs.
+    pub simulation: Simulation,
 }
 
 impl Instance {
@@ -285,7 +285,7 @@ mod tests {
     use super::*;
 
     fn instance() -> Box<Instance> {
-        let scene = crate::fmu::scene_io::cantilever_tip_scene();
+        let scene = crate::scene::io::cantilever_tip_scene();
         let callbacks = fmi2CallbackFunctions {
             logger: None,
             allocateMemory: None,
@@ -297,7 +297,7 @@ mod tests {
             log: Log::new(&callbacks, "t", false),
             state: FmiState::Instantiated,
             before_error: FmiState::Instantiated,
-            model: Model::new(scene, "{g}".into()),
+            simulation: Simulation::new(scene, "{g}".into()),
         })
     }
 

@@ -1,6 +1,6 @@
 //! The value exports: fmi2Get/Set{Real,Integer,Boolean,String}, the input and output
 //! derivatives, and fmi2GetDirectionalDerivative (not provided). Pointer arrays become
-//! slices here; the model in [`crate::fmu::model`] checks what may be set or read.
+//! slices here; the model in [`crate::fmu::simulation`] checks what may be set or read.
 
 #![allow(non_snake_case, clippy::missing_safety_doc)]
 
@@ -8,7 +8,7 @@ use super::FmiError;
 use super::instance::*;
 use super::state::{self, FmiState};
 use super::types::*;
-use crate::fmu::model::Phase;
+use crate::fmu::simulation::Phase;
 
 fn phase(s: FmiState) -> Phase {
     match s {
@@ -34,7 +34,7 @@ pub unsafe extern "C" fn fmi2GetReal(
         if nvr == 1 && !vr.is_null() && !value.is_null() {
             // SAFETY: `vr` is non-null and holds `nvr` = 1 element.
             let r = unsafe { *vr };
-            if let Some(x) = inst.model.get_position(r) {
+            if let Some(x) = inst.simulation.get_position(r) {
                 // SAFETY: `value` is non-null and holds 1 writable element.
                 unsafe { *value = x };
                 return Ok(fmi2OK);
@@ -60,7 +60,7 @@ unsafe fn get_reals(
     let vrs = unsafe { slice(vr, nvr, "vr") }?;
     // SAFETY: `value` holds `nvr` writable reals, distinct from `vr`.
     let out = unsafe { slice_mut(value, nvr, "value") }?;
-    inst.model.get_reals(vrs, out)?;
+    inst.simulation.get_reals(vrs, out)?;
     Ok(fmi2OK)
 }
 
@@ -81,7 +81,7 @@ pub unsafe extern "C" fn fmi2GetInteger(
         // SAFETY: `value` holds `nvr` writable integers.
         let out = unsafe { slice_mut(value, nvr, "value") }?;
         for (&r, o) in vrs.iter().zip(out.iter_mut()) {
-            *o = inst.model.get_integer(r)?;
+            *o = inst.simulation.get_integer(r)?;
         }
         Ok(fmi2OK)
     })
@@ -148,7 +148,7 @@ pub unsafe extern "C" fn fmi2SetReal(
         if nvr == 1 && !vr.is_null() && !value.is_null() {
             // SAFETY: both are non-null and hold `nvr` = 1 element.
             let (r, v) = unsafe { (*vr, *value) };
-            if inst.model.set_load(r, v) {
+            if inst.simulation.set_load(r, v) {
                 return Ok(fmi2OK);
             }
         }
@@ -172,7 +172,7 @@ unsafe fn set_reals(
     let vrs = unsafe { slice(vr, nvr, "vr") }?;
     // SAFETY: `value` holds `nvr` reals.
     let vals = unsafe { slice(value, nvr, "value") }?;
-    inst.model.set_reals(vrs, vals, phase(inst.state))?;
+    inst.simulation.set_reals(vrs, vals, phase(inst.state))?;
     Ok(fmi2OK)
 }
 
@@ -192,7 +192,7 @@ pub unsafe extern "C" fn fmi2SetInteger(
         let vrs = unsafe { slice(vr, nvr, "vr") }?;
         // SAFETY: `value` holds `nvr` integers.
         let vals = unsafe { slice(value, nvr, "value") }?;
-        inst.model.set_integers(vrs, vals, phase(inst.state))?;
+        inst.simulation.set_integers(vrs, vals, phase(inst.state))?;
         Ok(fmi2OK)
     })
 }
@@ -288,7 +288,7 @@ pub unsafe extern "C" fn fmi2SetRealInputDerivatives(
                     slice(value, nvr, "value")?,
                 )
             };
-            inst.model.set_input_rates(vrs, ords, vals)?;
+            inst.simulation.set_input_rates(vrs, ords, vals)?;
             Ok(fmi2OK)
         },
     )
@@ -320,7 +320,7 @@ pub unsafe extern "C" fn fmi2GetRealOutputDerivatives(
                 )
             };
             for ((&r, &o), v) in vrs.iter().zip(ords).zip(out.iter_mut()) {
-                *v = inst.model.get_output_derivative(r, o)?;
+                *v = inst.simulation.get_output_derivative(r, o)?;
             }
             Ok(fmi2OK)
         },

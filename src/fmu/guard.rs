@@ -1,50 +1,40 @@
-//! The step guard of an FMU instance: a step that would leave a non-finite number in the
-//! solver state or in an output a master can read is refused, and the instance keeps its
-//! state from before the step ("right or loud").
+//! The step guard of an FMU instance: a step that would leave a non-finite number in an
+//! output a master can read is refused, and the instance keeps its state from before the
+//! step ("right or loud"). Putting the state back is the solver's own business
+//! ([`Solver::checkpoint`] and [`Solver::rewind`], `crate::solver::rollback`); the guard
+//! only decides whether the outputs of a step are acceptable.
 //!
-//! Two paths. Where the method bounds a step before it is taken ([`Solver::growth`]: the
+//! Two paths. Where the method bounds a step before it is taken ([`BoundedStep`]: the
 //! exact method, loads held), the guard keeps a running upper bound of the solver's
-//! [`Solver::measure`] and of every load's magnitude (the model reports each load as it
-//! is set, [`StepGuard::note_load`]); when the bound after the step keeps every state
-//! entry and input below `output_bound`, the step cannot make anything non-finite, so
-//! the guard saves nothing and reads nothing: a few multiplications per step. When the
-//! bound says "maybe" (after a restore, or with a stale load magnitude) it is first
-//! tightened from the actual state and loads; only if that fails too does the step take
-//! the checked path.
+//! [`BoundedStep::measure`] and of every load's magnitude (the model reports each load
+//! as it is set, [`StepGuard::note_load`]); when the bound after the step keeps every
+//! state entry and input below `output_bound`, the step cannot make anything
+//! non-finite, so the guard asks for no checkpoint and reads nothing: a few
+//! multiplications per step. When the bound says "maybe" (after a restore, or with a
+//! stale load magnitude) it is first tightened from the actual state and loads; only if
+//! that fails too does the step take the checked path.
 //!
-//! The checked path (every other method, rates on, or a state near the bound) holds two
-//! state buffers and copies the solver state once per step: after the step, into the
-//! second buffer, which the check then reads. An accepted step swaps the two (double
-//! buffering): the state after step k is the saved state before step k+1, so no save
-//! runs before a step unless something else changed the solver in between (building it,
-//! restoring an FMU state, passing loads to read a truncated scene's outputs, a step on
-//! the bounded path), which the model reports with [`StepGuard::forget`]. The buffers are
-//! reused: no allocation once each has held one state. After the step the guard checks
-//! the solver state (it holds everything the future depends on) and the outputs: node
-//! positions, velocities and both energies. The outputs are checked as well as the state
-//! because a finite state does not make them finite: they are sums of products of the
-//! state with the body's matrices (and, for a truncated body, with the loads themselves),
-//! which can overflow. On failure the saved state is put back and the message names the
-//! first non-finite variable and the input with the largest magnitude, the usual cause.
+//! The checked path (every other method, rates on, or a state near the bound) takes a
+//! checkpoint of the solver before the step's loads are passed (one copy of the state,
+//! into the solver's own buffer, no allocation), and after the step computes every
+//! output a master can read: node positions, velocities, rotations and their rates, the
+//! accelerations, both energies and the modal coordinates. A finite state does not make
+//! them finite: they are sums of products of the state with the body's matrices (and,
+//! for a truncated body, with the loads themselves), which can overflow. On failure the
+//! solver rewinds to the checkpoint and the message names the first non-finite variable
+//! and the input with the largest magnitude, the usual cause.
 
 use super::vars::{Kind, VarTable};
 use crate::num::num;
 use crate::scene::Scene;
 use crate::solver::damping::LocalDamping;
-use crate::solver::{Growth, Method, Options, Solver, SolverError, State};
+use crate::solver::{BoundedStep, Growth, Options, Solver, SolverError};
 
-/// The rollback buffer, the running bounds and the output workspace of one instance.
+/// The running bounds and the output workspace of one instance.
 pub struct StepGuard {
-    /// The solver state before the coming step (valid when `saved_is_current`).
-    saved: State,
-    /// The solver state after the last step, checked by [`StepGuard::check`].
-    after: State,
-    /// `saved` equals the solver's current state: the last step was accepted on the
-    /// checked path (or rolled back) and nothing has changed the solver since.
-    saved_is_current: bool,
-    /// The running step was bounded before it was taken: nothing was saved.
+    /// The running step was bounded before it was taken: no checkpoint was taken.
     bounded: bool,
-    /// An upper bound of the solver's [`Solver::measure`] now (infinite: unknown).
+    /// An upper bound of the solver's [`BoundedStep::measure`] now (infinite: unknown).
     measure: f64,
     /// The bound of the measure after the running bounded step.
     next: f64,
@@ -154,15 +144,8 @@ impl StepGuard {
     /// default options until [`StepGuard::adopt`] gives it the solver's.
     pub fn new(scene: &Scene) -> StepGuard {
         let nodes = scene.nodes.len();
-        let empty = || State {
-            method: Method::Exact,
-            data: Vec::new(),
-        };
         StepGuard {
             bound: output_bound(scene, &Options::default()),
-            saved: empty(),
-            after: empty(),
-            saved_is_current: false,
             bounded: false,
             measure: f64::INFINITY,
             next: f64::INFINITY,
@@ -198,44 +181,41 @@ impl StepGuard {
     }
 
     /// A new solver, built for `scene` (with the parameters' gravity and initial
-    /// velocities) and `opts`: the output bound for them, forget the old solver's state,
-    /// and size both state buffers for this one now, so that its first checked step
-    /// allocates nothing either (a run of bounded steps never fills them).
-    pub fn adopt(&mut self, s: &dyn Solver, scene: &Scene, opts: &Options) {
+    /// velocities) and `opts`: the output bound for them, and forget the old solver's
+    /// measure.
+    pub fn adopt(&mut self, scene: &Scene, opts: &Options) {
         self.bound = output_bound(scene, opts);
-        s.state_into(&mut self.saved);
-        s.state_into(&mut self.after);
         self.forget();
     }
 
     /// The solver was changed outside a step (built, restored, given loads): the next
-    /// [`StepGuard::begin`] copies its state again where it saves one, and measures it
-    /// again where it bounds the step.
+    /// [`StepGuard::begin`] measures it again where it bounds the step.
     #[inline]
     pub fn forget(&mut self) {
-        self.saved_is_current = false;
         self.measure = f64::INFINITY;
         self.time = f64::INFINITY;
         self.growth_h = f64::NAN;
     }
 
     /// Before a step of `h` (and before the loads it passes, `loads`; `rates_on`: some
-    /// rate is nonzero): bound the step where the method can, else make sure the state
-    /// is saved (a copy only when something changed the solver since the last step
-    /// accepted on the checked path, see the module notes).
+    /// rate is nonzero): bound the step where the method can, else take a checkpoint of
+    /// the solver, which a refused step goes back to.
     #[inline]
     pub fn begin(&mut self, s: &mut dyn Solver, h: f64, loads: &[f64], rates_on: bool) {
-        self.bounded = !rates_on && self.bounds(s, h, loads);
-        if !self.bounded && !self.saved_is_current {
-            s.state_into(&mut self.saved);
-            self.saved_is_current = true;
+        self.bounded = !rates_on
+            && match s.bounded() {
+                Some(b) => self.bounds(b, h, loads),
+                None => false,
+            };
+        if !self.bounded {
+            s.checkpoint();
         }
     }
 
     /// Whether the step of `h` certainly keeps every state entry and input below the
     /// bound; sets `next` when it does.
     #[inline]
-    fn bounds(&mut self, s: &mut dyn Solver, h: f64, loads: &[f64]) -> bool {
+    fn bounds(&mut self, s: &mut dyn BoundedStep, h: f64, loads: &[f64]) -> bool {
         #[cfg(test)]
         if self.checked_only {
             return false;
@@ -269,7 +249,7 @@ impl StepGuard {
     /// solver and the loads (they may be stale overestimates, or unknown).
     #[cold]
     #[inline(never)]
-    fn tighten(&mut self, s: &dyn Solver, h: f64, loads: &[f64]) -> bool {
+    fn tighten(&mut self, s: &dyn BoundedStep, h: f64, loads: &[f64]) -> bool {
         self.measure = s.measure();
         self.cap = largest_magnitude(loads);
         self.time = s.time().abs();
@@ -282,20 +262,11 @@ impl StepGuard {
         self.bounded
     }
 
-    /// Put back the state from before the step begun by [`StepGuard::begin`].
+    /// Put back the state from before the step begun by [`StepGuard::begin`] and refused
+    /// after it completed (its outputs are not finite).
     pub fn rollback(&mut self, s: &mut dyn Solver) -> Result<(), SolverError> {
-        if self.bounded {
-            // A bounded step is one the method holds the coefficients for, under loads
-            // that are finite: it cannot fail, and its result is not checked. Should it
-            // fail anyway, say that nothing was saved rather than pretend.
-            return Err(SolverError::BadState(
-                "the step was bounded in advance and no state was saved to put back".into(),
-            ));
-        }
-        let restored = s.set_state(&self.saved);
-        self.saved_is_current = restored.is_ok();
         (self.measure, self.time) = (f64::INFINITY, f64::INFINITY);
-        restored
+        s.rewind()
     }
 
     /// After a step begun bounded: accept it as it is (its bound becomes the running
@@ -305,45 +276,21 @@ impl StepGuard {
     pub fn accept_bounded(&mut self) -> bool {
         if self.bounded {
             (self.measure, self.time) = (self.next, self.next_time);
-            self.saved_is_current = false;
         }
         self.bounded
     }
 
-    /// Check the step of `h` just taken on the checked path under `loads` and `rates`
-    /// (`rates_on`: some rate is nonzero): the first non-finite value, named for the
-    /// master, or `None` when every checked value is finite, in which case the step is
-    /// accepted and its state becomes the saved one for the next step.
+    /// Check the step just taken on the checked path: the first non-finite output, named
+    /// for the master, or `None` when every checked value is finite, in which case the
+    /// step is accepted.
     #[inline(never)]
-    pub fn check(
-        &mut self,
-        s: &dyn Solver,
-        table: &VarTable,
-        (loads, rates, rates_on): (&[f64], &[f64], bool),
-        h: f64,
-    ) -> Option<String> {
-        let b = self.bound;
-        s.state_into(&mut self.after);
+    pub fn check(&mut self, s: &dyn Solver, table: &VarTable) -> Option<String> {
         // Measured again at the next bounded step.
         (self.measure, self.time) = (f64::INFINITY, f64::INFINITY);
-        let state_below = squares_below(&self.after.data, b);
-        if state_below && inputs_below(loads, rates, rates_on, h, b) {
-            std::mem::swap(&mut self.saved, &mut self.after);
-            self.saved_is_current = true;
-            return None;
-        }
-        let bad = self.first_non_finite(s, table);
-        if bad.is_none() {
-            std::mem::swap(&mut self.saved, &mut self.after);
-            self.saved_is_current = true;
-        }
-        bad
+        self.first_non_finite(s, table)
     }
 
-    /// The full check of the outputs and of the state in `self.after`, for a step whose
-    /// state or inputs reach the bound.
-    #[cold]
-    #[inline(never)]
+    /// The check of every output behind [`StepGuard::check`].
     fn first_non_finite(&mut self, s: &dyn Solver, table: &VarTable) -> Option<String> {
         let named = |kind: Kind| {
             table
@@ -396,46 +343,11 @@ impl StepGuard {
         if !s.strain_energy().is_finite() {
             return Some(named(Kind::StrainEnergy));
         }
-        if self.after.data.iter().all(|x| x.is_finite()) {
-            return None;
-        }
-        // Error path only from here: naming may allocate.
         if let Some(j) = s.modal().iter().position(|x| !x.is_finite()) {
             return Some(format!("modal amplitude {}", j + 1));
         }
-        let k = self.after.data.iter().position(|x| !x.is_finite());
-        Some(format!("solver state entry {}", k.unwrap_or(0)))
+        None
     }
-}
-
-/// Whether every entry of `data` is certainly below `bound` in magnitude: the sum of
-/// their squares is below `bound^2` (NaN or overflow to infinity compare false). Stricter
-/// than testing each entry by at most a factor `sqrt(data.len())`, which only sends a
-/// step that is already near the bound to the full check.
-#[inline]
-fn squares_below(data: &[f64], bound: f64) -> bool {
-    sum_squares(data) < bound * bound
-}
-
-/// The sum of squares behind [`squares_below`] (NaN if an entry is NaN, infinite if an
-/// entry or the sum overflows). Four accumulators, read four entries at a time, so that
-/// the loop vectorises into independent sums (no long chain of dependent additions) and
-/// the short vectors of a step (20 modes, 12 loads) leave no remainder.
-#[inline]
-fn sum_squares(data: &[f64]) -> f64 {
-    let mut acc = [0.0f64; 4];
-    let mut chunks = data.chunks_exact(4);
-    for c in &mut chunks {
-        for k in 0..4 {
-            acc[k] += c[k] * c[k];
-        }
-    }
-    // Neighbours first: lanes (0, 1) and (2, 3) stay two vector registers.
-    let mut sum = (acc[0] + acc[2]) + (acc[1] + acc[3]);
-    for x in chunks.remainder() {
-        sum += x * x;
-    }
-    sum
 }
 
 /// Whether any rate is nonzero (`-0.0` counts as zero, as `r != 0.0` does): an OR of the
@@ -443,25 +355,6 @@ fn sum_squares(data: &[f64]) -> f64 {
 #[inline]
 pub fn any_nonzero(rates: &[f64]) -> bool {
     rates.iter().fold(0u64, |bits, r| bits | (r.to_bits() << 1)) != 0
-}
-
-/// Whether the loads stay certainly below `bound` in magnitude over a step of `h`: held
-/// value plus rate times step, as a sum of squares like [`squares_below`]; the held
-/// values alone when no rate is on. Loads and rates are finite (checked when set).
-#[inline]
-fn inputs_below(loads: &[f64], rates: &[f64], rates_on: bool, h: f64, bound: f64) -> bool {
-    if !rates_on {
-        return squares_below(loads, bound);
-    }
-    let sum: f64 = loads
-        .iter()
-        .zip(rates)
-        .map(|(l, r)| {
-            let x = l.abs() + r.abs() * h;
-            x * x
-        })
-        .sum();
-    sum < bound * bound
 }
 
 /// The largest magnitude in `v` (0 when empty; NaN entries are skipped, and loads are

@@ -148,7 +148,7 @@ pub struct SceneOptions {
     /// Declared units, or none.
     pub units: Option<UnitSystem>,
     /// Keep the modes up to this frequency (Hz) with a static correction for the rest
-    /// (`pack --fmax`, [`crate::reduce`]); `None`: all modes.
+    /// (`pack --fmax`, [`crate::scene::reduce`]); `None`: all modes.
     pub fmax: Option<f64>,
     /// DefaultExperiment step size (`pack --step`), s; `None`: derived from the body
     /// ([`super::xml::default_experiment`]).

@@ -6,10 +6,6 @@ use std::path::{Path, PathBuf};
 
 use super::doc::index_html;
 use super::options::{SceneOptions, UnitSystem};
-use super::scene_io::{
-    OPTIONS_FILE, SCENE_FILE, SOURCE_FILE, coords_from_rigid_modes, guid, make_scene, summary,
-};
-use super::scenefile;
 use super::vars::VarTable;
 use super::xml::model_description;
 use super::zip::{Entry, write};
@@ -18,6 +14,10 @@ use crate::fxb::coords;
 use crate::fxb::input::{InputError, Limit, check_input, describe, read_bounded, read_input};
 use crate::num::num;
 use crate::scene::Scene;
+use crate::scene::file as scenefile;
+use crate::scene::io::{
+    OPTIONS_FILE, SCENE_FILE, SOURCE_FILE, coords_from_rigid_modes, guid, make_scene, summary,
+};
 
 mod error;
 pub mod experiment;
@@ -99,7 +99,7 @@ pub enum Fmax {
 
 /// [`prepare`] with mode truncation: the options carry the resolved fmax, and the scene
 /// (here and in the FMU, from the full file) keeps the modes up to it plus the residual
-/// flexibility of the rest ([`crate::reduce`]).
+/// flexibility of the rest ([`crate::scene::reduce`]).
 pub fn prepare_with(req: &PackRequest, fmax: Option<Fmax>) -> Result<Prepared, PackError> {
     prepare_opts(
         req,
@@ -234,7 +234,7 @@ pub fn prepare_reporting(
                 None => {
                     // The step follows the frequencies only: a probe body without node
                     // rows, not a copy of every node's modes.
-                    let bare = crate::reduce::select_nodes(&body, &[]);
+                    let bare = crate::scene::reduce::select_nodes(&body, &[]);
                     let probe = Scene::new(std::sync::Arc::new(bare), Vec::new(), Vec::new());
                     super::xml::default_experiment(&probe).1
                 }
@@ -248,7 +248,7 @@ pub fn prepare_reporting(
         }
     };
     if let Some(f) = fmax {
-        let basis = crate::reduce::ModalBasis::of(&body);
+        let basis = crate::scene::reduce::ModalBasis::of(&body);
         let kept = basis.count_below(f);
         let first = basis.frequencies_hz().first().copied().unwrap_or(0.0);
         if kept == 0 {

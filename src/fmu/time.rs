@@ -2,7 +2,7 @@
 //! instant, and when a step ends past stopTime. One tolerance for both, scaled by the
 //! floating-point spacing at the times involved and by the step.
 
-use super::model_error::TimeError;
+use super::simulation_error::TimeError;
 
 /// Floating-point spacings (ulps) allowed between a master's time and the FMU's, at the
 /// largest magnitude involved (the two times and the start time): a master that computes

@@ -364,7 +364,7 @@ impl VarTable {
 
     /// The table with `m` as the `method` start value (`pack --method`, read back from
     /// scene.txt); `None` keeps the body's default. The scene check
-    /// ([`super::scene_io::make_scene`]) has refused a method the body does not offer.
+    /// ([`crate::scene::io::make_scene`]) has refused a method the body does not offer.
     pub fn with_default_method(mut self, m: Option<Method>) -> VarTable {
         if let Some(m) = m {
             self.default_method = m;

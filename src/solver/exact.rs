@@ -15,7 +15,7 @@
 //! computed only when asked for.
 //!
 //! With the coefficients of a step size comes its [`Growth`]: how far one step can carry
-//! the energy norm `sqrt(sum w^2 y^2 + y'^2)` ([`Solver::measure`]) under held loads. A
+//! the energy norm `sqrt(sum w^2 y^2 + y'^2)` ([`BoundedStep::measure`]) under held loads. A
 //! damped mode's energy does not grow without load, so the transition's norm in the
 //! scaled coordinates `(w y, y')` is at most 1 (plus rounding, which the bound includes),
 //! and a load adds at most its projection times the forcing column's norm. The FMU's step
@@ -28,8 +28,9 @@ use nalgebra::{DMatrix, DVector};
 
 use super::damping::LocalDamping;
 use super::expm::mode_coefficients;
-use super::nodes::{Exposed, LocalCoords, check_state, modal_basis, modal_strain_energy};
-use super::{Frame, Growth, Method, Options, Solver, SolverError, State};
+use super::nodes::{Exposed, LocalCoords, modal_basis, modal_solver_items};
+use super::rollback::{Restorable, Rollback};
+use super::{BoundedStep, Growth, Method, Options, Solver, SolverError, SolverWarning, State};
 use crate::scene::Scene;
 
 /// The exact modal solver.
@@ -59,6 +60,9 @@ pub struct Exact {
     /// `max(1, 1 / w_min)`: every amplitude and velocity is at most this times the
     /// energy norm (infinite with a zero frequency).
     scale: f64,
+    /// The state a refused step goes back to (used only after a checkpoint: the step
+    /// itself cannot fail once it has begun).
+    rollback: Rollback,
 }
 
 /// Rounding allowance of the growth bound: relative, far above the few ulps a step and
@@ -93,7 +97,7 @@ impl Exact {
             load: f64::INFINITY,
             scale,
         };
-        Ok(Exact {
+        let mut exact = Exact {
             time: 0.0,
             io,
             basis,
@@ -109,8 +113,14 @@ impl Exact {
             next_slot: 0,
             load_gain,
             scale,
-        })
+            rollback: Rollback::new(Method::Exact, 0),
+        };
+        exact.rollback = Rollback::new(Method::Exact, exact.state_len());
+        Ok(exact)
     }
+
+    /// Nothing to do after the loads changed: every output is read from the modal state.
+    fn refresh(&mut self) {}
 
     /// Modal circular frequencies (rad/s), in the order of the modal basis.
     pub fn omegas(&self) -> &[f64] {
@@ -188,10 +198,6 @@ impl Exact {
         }
     }
 
-    fn state_len(&self) -> usize {
-        1 + self.io.saved_len() + 2 * self.y.len()
-    }
-
     /// Node accelerations through the rows at offset `off` (0 translations, 3
     /// rotations): modal accelerations from the equation of motion, recomputed for each
     /// output value so that no workspace is needed (outputs are few, and not on the step).
@@ -242,23 +248,71 @@ fn advance(coef: &[f64], f: &[f64], fd: &[f64], dt0: f64, y: &mut [f64], v: &mut
 }
 
 impl Solver for Exact {
-    fn method(&self) -> Method {
-        Method::Exact
+    modal_solver_items!(Method::Exact, yd);
+
+    /// The exact step cannot fail once it has begun (a bad step size, or one whose
+    /// transition overflows, is refused before anything changes), so it saves nothing.
+    #[inline]
+    fn step(&mut self, h: f64) -> Result<Option<SolverWarning>, SolverError> {
+        Rollback::step(self, false, |s| s.advance(h))?;
+        Ok(None)
     }
 
-    fn time(&self) -> f64 {
-        self.time
+    fn accelerations(&self, out: &mut [f64]) {
+        self.node_accelerations(0, out);
     }
 
-    fn set_loads(&mut self, loads: &[f64]) -> Result<(), SolverError> {
-        self.io.set_loads(loads, self.time)
+    fn rotation_accelerations(&self, out: &mut [f64]) -> bool {
+        self.node_accelerations(3, out);
+        true
     }
 
-    fn set_load_rates(&mut self, rates: &[f64]) -> Result<(), SolverError> {
-        self.io.set_rates(rates, self.time)
+    fn set_state(&mut self, state: &State) -> Result<(), SolverError> {
+        let parts = &mut [self.y.as_mut_slice(), self.yd.as_mut_slice()];
+        self.time = self.io.read_state(state, Method::Exact, parts)?;
+        self.alpha.invalidate();
+        self.rollback.forget();
+        Ok(())
     }
 
-    fn step(&mut self, h: f64) -> Result<(), SolverError> {
+    fn bounded(&mut self) -> Option<&mut dyn BoundedStep> {
+        Some(self)
+    }
+}
+
+impl Restorable for Exact {
+    fn rollback(&mut self) -> &mut Rollback {
+        &mut self.rollback
+    }
+
+    fn write_state(&self, data: &mut Vec<f64>) {
+        let parts = [self.y.as_slice(), self.yd.as_slice()];
+        self.io.write_state(data, self.time, &parts);
+    }
+
+    fn state_len(&self) -> usize {
+        self.io.state_len(&[self.y.as_slice(), self.yd.as_slice()])
+    }
+}
+
+impl BoundedStep for Exact {
+    #[inline]
+    fn growth(&mut self, h: f64) -> Option<Growth> {
+        let slot = self.slot(h).ok()?;
+        Some(self.growth[slot])
+    }
+
+    /// `sqrt(sum w^2 y^2 + y'^2)`, twice the strain plus kinetic energy under the root.
+    fn measure(&self) -> f64 {
+        (2.0 * (self.strain_energy() + self.kinetic_energy())).sqrt() * (1.0 + SLACK)
+    }
+}
+
+impl Exact {
+    /// One exact step of every mode ([`advance`]); refused before any change when `h`
+    /// is not a usable step.
+    #[inline]
+    fn advance(&mut self, h: f64) -> Result<(), SolverError> {
         let slot = self.slot(h)?;
         let t0 = self.time;
         // Load over the step: f0 + fd s, f0 the value reached at t0.
@@ -275,104 +329,16 @@ impl Solver for Exact {
         self.alpha.invalidate();
         Ok(())
     }
-
-    fn positions(&self, out: &mut [f64]) {
-        self.io.positions(&self.y, out);
-    }
-
-    fn position(&self, k: usize) -> Option<f64> {
-        self.io.position(k, &self.y)
-    }
-
-    fn velocities(&self, out: &mut [f64]) {
-        self.io.translations(&self.yd, out);
-    }
-
-    fn accelerations(&self, out: &mut [f64]) {
-        self.node_accelerations(0, out);
-    }
-
-    fn rotation_rates(&self, out: &mut [f64]) {
-        self.io.rotations(&self.yd, out);
-    }
-
-    fn rotations(&self, out: &mut [f64]) {
-        self.io.rotations(&self.y, out);
-    }
-
-    fn rotation_accelerations(&self, out: &mut [f64]) -> bool {
-        self.node_accelerations(3, out);
-        true
-    }
-
-    fn modal(&self) -> &[f64] {
-        self.alpha.get(&self.basis, &self.y)
-    }
-
-    fn strain_energy(&self) -> f64 {
-        modal_strain_energy(&self.y, &self.w2)
-    }
-
-    fn kinetic_energy(&self) -> f64 {
-        0.5 * self.yd.norm_squared()
-    }
-
-    fn frame(&self) -> Option<Frame> {
-        None
-    }
-
-    fn state(&self) -> State {
-        let mut s = State {
-            method: Method::Exact,
-            data: Vec::with_capacity(self.state_len()),
-        };
-        self.state_into(&mut s);
-        s
-    }
-
-    fn state_into(&self, out: &mut State) {
-        out.method = Method::Exact;
-        let data = &mut out.data;
-        data.clear();
-        data.push(self.time);
-        self.io.save(data);
-        data.extend_from_slice(self.y.as_slice());
-        data.extend_from_slice(self.yd.as_slice());
-    }
-
-    fn set_state(&mut self, state: &State) -> Result<(), SolverError> {
-        check_state(state, Method::Exact, self.state_len())?;
-        let d = &state.data;
-        let nl = self.y.len();
-        let k = 1 + self.io.saved_len();
-        self.time = d[0];
-        self.io.restore(&d[1..k]);
-        self.y.copy_from_slice(&d[k..k + nl]);
-        self.yd.copy_from_slice(&d[k + nl..k + 2 * nl]);
-        self.alpha.invalidate();
-        Ok(())
-    }
-
-    #[inline]
-    fn growth(&mut self, h: f64) -> Option<Growth> {
-        let slot = self.slot(h).ok()?;
-        Some(self.growth[slot])
-    }
-
-    /// `sqrt(sum w^2 y^2 + y'^2)`, twice the strain plus kinetic energy under the root.
-    fn measure(&self) -> f64 {
-        (2.0 * (self.strain_energy() + self.kinetic_energy())).sqrt() * (1.0 + SLACK)
-    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::{Exact, Growth};
-    use crate::solver::{Options, Solver};
+    use crate::solver::{BoundedStep, Options, Solver};
     use fxbody_testkit::Rng;
 
     fn cantilever(zeta: f64) -> Exact {
-        let scene = crate::fmu::scene_io::cantilever_tip_scene();
+        let scene = crate::scene::io::cantilever_tip_scene();
         let opts = Options {
             damping_ratio: zeta,
             ..Options::default()

@@ -39,7 +39,10 @@ use nalgebra::{DMatrix, DVector};
 use super::damping::LocalDamping;
 use super::dense::bilinear;
 use super::nodes::{Exposed, check_state};
-use super::{Frame, MAX_INTERNAL_STEPS, Method, Options, Solver, SolverError, State};
+use super::rollback::{Restorable, Rollback, rollback_items};
+use super::{
+    Frame, MAX_INTERNAL_STEPS, Method, Options, Solver, SolverError, SolverWarning, State,
+};
 use crate::scene::Scene;
 
 /// The sub-cycled central-difference solver.
@@ -66,6 +69,9 @@ pub struct Explicit {
     vout: DVector<f64>,
     /// Generalised load at the end of the last step under that step's load model.
     fend: DVector<f64>,
+    /// The state a refused step goes back to (used only after a checkpoint: the step
+    /// itself cannot fail once it has begun).
+    rollback: Rollback,
 }
 
 impl Explicit {
@@ -87,7 +93,7 @@ impl Explicit {
         let (ra, rb) = (damping.alpha, damping.beta);
         let dt_fx = damping.explicit_stable_step(body);
         super::damping::check_explicit_step(dt_fx, opts.damping_ratio)?;
-        Ok(Explicit {
+        let mut explicit = Explicit {
             time: 0.0,
             io,
             m: body.m_l.clone(),
@@ -105,7 +111,10 @@ impl Explicit {
             acc: DVector::zeros(nl),
             vout: DVector::zeros(nl),
             fend: DVector::zeros(nl),
-        })
+            rollback: Rollback::new(Method::Explicit, 0),
+        };
+        explicit.rollback = Rollback::new(Method::Explicit, explicit.state_len());
+        Ok(explicit)
     }
 
     /// The largest internal step, `dt_factor dt_fx` (infinite without stiffness).
@@ -153,33 +162,9 @@ impl Explicit {
         self.vout.axpy(0.5 * self.dt1, &self.acc, 1.0);
     }
 
-    fn state_len(&self) -> usize {
-        2 + self.io.saved_len() + 3 * self.q.len()
-    }
-}
-
-impl Solver for Explicit {
-    fn method(&self) -> Method {
-        Method::Explicit
-    }
-
-    fn time(&self) -> f64 {
-        self.time
-    }
-
-    fn set_loads(&mut self, loads: &[f64]) -> Result<(), SolverError> {
-        self.io.set_loads(loads, self.time)?;
-        self.update_outputs();
-        Ok(())
-    }
-
-    fn set_load_rates(&mut self, rates: &[f64]) -> Result<(), SolverError> {
-        self.io.set_rates(rates, self.time)?;
-        self.update_outputs();
-        Ok(())
-    }
-
-    fn step(&mut self, h: f64) -> Result<(), SolverError> {
+    /// The sub-cycled step; refused before any change when `h` is not a usable step or
+    /// needs more internal steps than the budget.
+    fn advance(&mut self, h: f64) -> Result<(), SolverError> {
         if !(h.is_finite() && h > 0.0) {
             return Err(SolverError::BadStep(h));
         }
@@ -215,6 +200,37 @@ impl Solver for Explicit {
         self.update_outputs();
         Ok(())
     }
+}
+
+impl Solver for Explicit {
+    fn method(&self) -> Method {
+        Method::Explicit
+    }
+
+    fn time(&self) -> f64 {
+        self.time
+    }
+
+    fn set_loads(&mut self, loads: &[f64]) -> Result<(), SolverError> {
+        self.io.set_loads(loads, self.time)?;
+        self.update_outputs();
+        Ok(())
+    }
+
+    fn set_load_rates(&mut self, rates: &[f64]) -> Result<(), SolverError> {
+        self.io.set_rates(rates, self.time)?;
+        self.update_outputs();
+        Ok(())
+    }
+
+    /// The step cannot fail once it has begun (a bad step size, or one beyond the budget
+    /// of internal steps, is refused before anything changes), so it saves nothing.
+    fn step(&mut self, h: f64) -> Result<Option<SolverWarning>, SolverError> {
+        Rollback::step(self, false, |s| s.advance(h))?;
+        Ok(None)
+    }
+
+    rollback_items!();
 
     fn positions(&self, out: &mut [f64]) {
         self.io.positions(&self.q, out);
@@ -267,44 +283,48 @@ impl Solver for Explicit {
         None
     }
 
-    fn state(&self) -> State {
-        let mut s = State {
-            method: Method::Explicit,
-            data: Vec::with_capacity(self.state_len()),
-        };
-        self.state_into(&mut s);
-        s
-    }
-
-    fn state_into(&self, out: &mut State) {
-        out.method = Method::Explicit;
-        let data = &mut out.data;
-        data.clear();
-        data.push(self.time);
-        self.io.save(data);
-        data.push(self.dt1);
-        data.extend_from_slice(self.q.as_slice());
-        data.extend_from_slice(self.vh.as_slice());
-        data.extend_from_slice(self.fend.as_slice());
-    }
-
     fn set_state(&mut self, state: &State) -> Result<(), SolverError> {
         check_state(state, Method::Explicit, self.state_len())?;
-        let d = &state.data;
-        let nl = self.q.len();
-        let k = 1 + self.io.saved_len();
-        if d[k] < 0.0 {
+        if state.data[1 + self.io.saved_len()] < 0.0 {
             return Err(SolverError::BadState("negative last step size".into()));
         }
-        self.time = d[0];
-        self.io.restore(&d[1..k]);
-        self.dt1 = d[k];
-        let k = k + 1;
-        self.q.copy_from_slice(&d[k..k + nl]);
-        self.vh.copy_from_slice(&d[k + nl..k + 2 * nl]);
-        self.fend.copy_from_slice(&d[k + 2 * nl..k + 3 * nl]);
+        let parts = &mut [
+            std::slice::from_mut(&mut self.dt1),
+            self.q.as_mut_slice(),
+            self.vh.as_mut_slice(),
+            self.fend.as_mut_slice(),
+        ];
+        self.time = self.io.read_state(state, Method::Explicit, parts)?;
         self.refresh_products();
         self.update_outputs();
+        self.rollback.forget();
         Ok(())
+    }
+}
+
+impl Explicit {
+    /// The state after the time and the load part: the last step size, then `q`,
+    /// `v^(n-1/2)` and the generalised load at the end of the last step.
+    fn parts(&self) -> [&[f64]; 4] {
+        [
+            std::slice::from_ref(&self.dt1),
+            self.q.as_slice(),
+            self.vh.as_slice(),
+            self.fend.as_slice(),
+        ]
+    }
+}
+
+impl Restorable for Explicit {
+    fn rollback(&mut self) -> &mut Rollback {
+        &mut self.rollback
+    }
+
+    fn write_state(&self, data: &mut Vec<f64>) {
+        self.io.write_state(data, self.time, &self.parts());
+    }
+
+    fn state_len(&self) -> usize {
+        self.io.state_len(&self.parts())
     }
 }

@@ -44,8 +44,9 @@ use nalgebra::DVector;
 
 use super::damping::LocalDamping;
 use super::expm::mode_coefficients;
-use super::nodes::{Exposed, LocalCoords, check_state, modal_basis, modal_strain_energy};
-use super::{Frame, Method, Options, Solver, SolverError, State};
+use super::nodes::{Exposed, LocalCoords, modal_basis, modal_solver_items};
+use super::rollback::{Restorable, Rollback};
+use super::{Method, Options, Solver, SolverError, SolverWarning, State};
 use crate::scene::Scene;
 
 /// Generalised-alpha parameters from the spectral radius at infinity.
@@ -110,6 +111,9 @@ pub struct Implicit {
     /// The exact modes' new `(y, y', a)` during a step.
     scratch: Vec<(f64, f64, f64)>,
     next_slot: usize,
+    /// The state a refused step goes back to (used only after a checkpoint: the step
+    /// itself cannot fail once it has begun).
+    rollback: Rollback,
 }
 
 impl Implicit {
@@ -137,7 +141,7 @@ impl Implicit {
             .filter(|&j| damp[j] > 0.0 && damp[j] >= 2.0 * omega[j])
             .collect::<Vec<_>>();
         let ne = exact.len();
-        Ok(Implicit {
+        let mut implicit = Implicit {
             time: 0.0,
             io,
             basis,
@@ -156,12 +160,15 @@ impl Implicit {
             coef: [vec![0.0; 8 * ne], vec![0.0; 8 * ne]],
             scratch: vec![(0.0, 0.0, 0.0); ne],
             next_slot: 0,
-        })
+            rollback: Rollback::new(Method::Implicit, 0),
+        };
+        implicit.rollback = Rollback::new(Method::Implicit, implicit.state_len());
+        Ok(implicit)
     }
 
     /// The acceleration output at the current time: the internal forces' algorithmic
     /// acceleration plus the load now.
-    fn update_acceleration(&mut self) {
+    fn refresh(&mut self) {
         for j in 0..self.a.len() {
             self.acc[j] = self.a[j] + self.io.force(j, self.time);
         }
@@ -215,34 +222,61 @@ impl Implicit {
         self.cache_h[slot] = h;
         Ok(slot)
     }
-
-    fn state_len(&self) -> usize {
-        1 + self.io.saved_len() + 3 * self.y.len()
-    }
 }
 
 impl Solver for Implicit {
-    fn method(&self) -> Method {
-        Method::Implicit
+    modal_solver_items!(Method::Implicit, v);
+
+    /// The step cannot fail once it has begun (a bad step size, or one whose effective
+    /// masses are not finite, is refused before anything changes), so it saves nothing.
+    fn step(&mut self, h: f64) -> Result<Option<SolverWarning>, SolverError> {
+        Rollback::step(self, false, |s| s.advance(h))?;
+        Ok(None)
     }
 
-    fn time(&self) -> f64 {
-        self.time
+    fn accelerations(&self, out: &mut [f64]) {
+        self.io.translations(&self.acc, out);
     }
 
-    fn set_loads(&mut self, loads: &[f64]) -> Result<(), SolverError> {
-        self.io.set_loads(loads, self.time)?;
-        self.update_acceleration();
+    fn rotation_accelerations(&self, out: &mut [f64]) -> bool {
+        self.io.rotations(&self.acc, out);
+        true
+    }
+
+    fn set_state(&mut self, state: &State) -> Result<(), SolverError> {
+        let parts = &mut [
+            self.y.as_mut_slice(),
+            self.v.as_mut_slice(),
+            self.a.as_mut_slice(),
+        ];
+        self.time = self.io.read_state(state, Method::Implicit, parts)?;
+        self.refresh();
+        self.alpha.invalidate();
+        self.rollback.forget();
         Ok(())
     }
+}
 
-    fn set_load_rates(&mut self, rates: &[f64]) -> Result<(), SolverError> {
-        self.io.set_rates(rates, self.time)?;
-        self.update_acceleration();
-        Ok(())
+impl Restorable for Implicit {
+    fn rollback(&mut self) -> &mut Rollback {
+        &mut self.rollback
     }
 
-    fn step(&mut self, h: f64) -> Result<(), SolverError> {
+    fn write_state(&self, data: &mut Vec<f64>) {
+        let parts = [self.y.as_slice(), self.v.as_slice(), self.a.as_slice()];
+        self.io.write_state(data, self.time, &parts);
+    }
+
+    fn state_len(&self) -> usize {
+        self.io
+            .state_len(&[self.y.as_slice(), self.v.as_slice(), self.a.as_slice()])
+    }
+}
+
+impl Implicit {
+    /// One generalised-alpha step of every mode; refused before any change when `h` is
+    /// not a usable step.
+    fn advance(&mut self, h: f64) -> Result<(), SolverError> {
         if !(h.is_finite() && h > 0.0) {
             return Err(SolverError::BadStep(h));
         }
@@ -293,87 +327,7 @@ impl Solver for Implicit {
             (y[j], v[j], a[j]) = self.scratch[k];
         }
         self.time += h;
-        self.update_acceleration();
-        self.alpha.invalidate();
-        Ok(())
-    }
-
-    fn positions(&self, out: &mut [f64]) {
-        self.io.positions(&self.y, out);
-    }
-
-    fn position(&self, k: usize) -> Option<f64> {
-        self.io.position(k, &self.y)
-    }
-
-    fn velocities(&self, out: &mut [f64]) {
-        self.io.translations(&self.v, out);
-    }
-
-    fn accelerations(&self, out: &mut [f64]) {
-        self.io.translations(&self.acc, out);
-    }
-
-    fn rotation_rates(&self, out: &mut [f64]) {
-        self.io.rotations(&self.v, out);
-    }
-
-    fn rotations(&self, out: &mut [f64]) {
-        self.io.rotations(&self.y, out);
-    }
-
-    fn rotation_accelerations(&self, out: &mut [f64]) -> bool {
-        self.io.rotations(&self.acc, out);
-        true
-    }
-
-    fn modal(&self) -> &[f64] {
-        self.alpha.get(&self.basis, &self.y)
-    }
-
-    fn strain_energy(&self) -> f64 {
-        modal_strain_energy(&self.y, &self.w2)
-    }
-
-    fn kinetic_energy(&self) -> f64 {
-        0.5 * self.v.norm_squared()
-    }
-
-    fn frame(&self) -> Option<Frame> {
-        None
-    }
-
-    fn state(&self) -> State {
-        let mut s = State {
-            method: Method::Implicit,
-            data: Vec::with_capacity(self.state_len()),
-        };
-        self.state_into(&mut s);
-        s
-    }
-
-    fn state_into(&self, out: &mut State) {
-        out.method = Method::Implicit;
-        let data = &mut out.data;
-        data.clear();
-        data.push(self.time);
-        self.io.save(data);
-        data.extend_from_slice(self.y.as_slice());
-        data.extend_from_slice(self.v.as_slice());
-        data.extend_from_slice(self.a.as_slice());
-    }
-
-    fn set_state(&mut self, state: &State) -> Result<(), SolverError> {
-        check_state(state, Method::Implicit, self.state_len())?;
-        let d = &state.data;
-        let nl = self.y.len();
-        let k = 1 + self.io.saved_len();
-        self.time = d[0];
-        self.io.restore(&d[1..k]);
-        self.y.copy_from_slice(&d[k..k + nl]);
-        self.v.copy_from_slice(&d[k + nl..k + 2 * nl]);
-        self.a.copy_from_slice(&d[k + 2 * nl..k + 3 * nl]);
-        self.update_acceleration();
+        self.refresh();
         self.alpha.invalidate();
         Ok(())
     }

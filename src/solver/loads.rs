@@ -2,7 +2,7 @@
 //! my mz, global frame) held from the time `t_set` they were set, plus rates, so that the
 //! load at time t is `values + rates (t - t_set)`. The blocked methods project it onto
 //! their modes ([`super::nodes::Exposed`]), the free methods onto the moving frame
-//! (`free::Model::project_loads`) and the residual correction multiplies it by the
+//! (`free::FreeScene::project_loads`) and the residual correction multiplies it by the
 //! dropped modes' flexibility; all three read the same held value and rate from here.
 //! Sized at build time: nothing here allocates after [`Loads::new`].
 
@@ -79,6 +79,13 @@ impl Loads {
         }
         self.t_set = t;
         self.rates.copy_from_slice(rates);
+    }
+
+    /// Take the values, rates and time of `other` (same length), without allocating.
+    pub fn copy_from(&mut self, other: &Loads) {
+        self.values.copy_from_slice(&other.values);
+        self.rates.copy_from_slice(&other.rates);
+        self.t_set = other.t_set;
     }
 
     /// Number of state values (either layout).

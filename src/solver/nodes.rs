@@ -193,6 +193,43 @@ impl Exposed {
         self.project_loads();
         self.project_rates();
     }
+
+    /// The length of a blocked method's state: the time, the load part and `parts`.
+    pub fn state_len(&self, parts: &[&[f64]]) -> usize {
+        1 + self.saved_len() + parts.iter().map(|p| p.len()).sum::<usize>()
+    }
+
+    /// Write a blocked method's state into `data` (cleared first): the time `time`, the
+    /// load part, then each of `parts` whole. No allocation once `data` has held it.
+    pub fn write_state(&self, data: &mut Vec<f64>, time: f64, parts: &[&[f64]]) {
+        data.clear();
+        data.push(time);
+        self.save(data);
+        for p in parts {
+            data.extend_from_slice(p);
+        }
+    }
+
+    /// Read a state [`Exposed::write_state`] wrote for `method`: checked whole first
+    /// ([`check_state`]), then the load part restored and `parts` filled; the time is
+    /// returned. Refused with nothing changed when the state does not fit.
+    pub fn read_state(
+        &mut self,
+        state: &super::State,
+        method: super::Method,
+        parts: &mut [&mut [f64]],
+    ) -> Result<f64, SolverError> {
+        let len = 1 + self.saved_len() + parts.iter().map(|p| p.len()).sum::<usize>();
+        check_state(state, method, len)?;
+        let d = &state.data;
+        let mut k = 1 + self.saved_len();
+        self.restore(&d[1..k]);
+        for p in parts {
+            p.copy_from_slice(&d[k..k + p.len()]);
+            k += p.len();
+        }
+        Ok(d[0])
+    }
 }
 
 /// Cut a saved state into its parts after checking method and length.
@@ -220,6 +257,76 @@ pub fn check_state(
     }
     Ok(())
 }
+
+/// The [`super::Solver`] items the exact and the implicit method answer alike from their
+/// modal state (they step the same mass-normalised modes): the method and time, the
+/// loads, the outputs read through the exposed rows from the modal amplitudes `self.y`
+/// and the modal velocities `self.$v`, the local coordinates, both energies and the
+/// state items of [`super::rollback`]. Invoked inside each method's `impl Solver`; the
+/// method writes `step`, the accelerations and `set_state` itself, and `refresh` (run
+/// after the loads changed: the acceleration output of the implicit method holds them).
+macro_rules! modal_solver_items {
+    ($method:expr, $v:ident) => {
+        fn method(&self) -> $crate::solver::Method {
+            $method
+        }
+
+        fn time(&self) -> f64 {
+            self.time
+        }
+
+        fn set_loads(&mut self, loads: &[f64]) -> Result<(), $crate::solver::SolverError> {
+            self.io.set_loads(loads, self.time)?;
+            self.refresh();
+            Ok(())
+        }
+
+        fn set_load_rates(&mut self, rates: &[f64]) -> Result<(), $crate::solver::SolverError> {
+            self.io.set_rates(rates, self.time)?;
+            self.refresh();
+            Ok(())
+        }
+
+        fn positions(&self, out: &mut [f64]) {
+            self.io.positions(&self.y, out);
+        }
+
+        fn position(&self, k: usize) -> Option<f64> {
+            self.io.position(k, &self.y)
+        }
+
+        fn velocities(&self, out: &mut [f64]) {
+            self.io.translations(&self.$v, out);
+        }
+
+        fn rotation_rates(&self, out: &mut [f64]) {
+            self.io.rotations(&self.$v, out);
+        }
+
+        fn rotations(&self, out: &mut [f64]) {
+            self.io.rotations(&self.y, out);
+        }
+
+        fn modal(&self) -> &[f64] {
+            self.alpha.get(&self.basis, &self.y)
+        }
+
+        fn strain_energy(&self) -> f64 {
+            $crate::solver::nodes::modal_strain_energy(&self.y, &self.w2)
+        }
+
+        fn kinetic_energy(&self) -> f64 {
+            0.5 * self.$v.norm_squared()
+        }
+
+        fn frame(&self) -> Option<$crate::solver::Frame> {
+            None
+        }
+
+        $crate::solver::rollback::rollback_items!();
+    };
+}
+pub(crate) use modal_solver_items;
 
 /// The local coordinates `alpha = S y`, computed on the first request after a step and
 /// kept until the next one. `modal()` hands out a slice from `&self`, so the value lives

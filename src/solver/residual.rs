@@ -1,6 +1,6 @@
 //! The static (residual-flexibility) correction of a truncated body, as a decorator over
 //! any solver: the dropped modes follow the load quasi-statically, so the exposed nodes
-//! move by `R f` on top of what the kept modes do ([`crate::reduce`]).
+//! move by `R f` on top of what the kept modes do ([`crate::scene::reduce`]).
 //!
 //! With `f(t) = f0 + fdot (t - t_set)` (held or linearly varying load, the solvers' load
 //! model), the correction adds `P R P^T f` to the positions, `P R P^T fdot` to the
@@ -17,7 +17,8 @@
 use nalgebra::{DMatrix, Matrix3};
 
 use super::loads::Loads;
-use super::{Frame, Method, Solver, SolverError, State};
+use super::rollback::{Mark, no_checkpoint};
+use super::{Frame, Method, Solver, SolverError, SolverWarning, State};
 use crate::scene::Scene;
 
 /// A solver plus the quasi-static displacement of the dropped modes at the exposed nodes.
@@ -29,6 +30,10 @@ pub struct Residual {
     p_fixed: Option<Matrix3<f64>>,
     /// The caller's loads, held alongside the inner solver's copy.
     held: Loads,
+    /// `held` at the last checkpoint (the inner solver keeps the rest of the state), and
+    /// whether it still serves.
+    checkpoint_held: Loads,
+    mark: Mark,
 }
 
 impl Residual {
@@ -58,6 +63,8 @@ impl Residual {
             r,
             p_fixed: scene.body.iblo.then_some(scene.body.p0),
             held: Loads::new(6 * m),
+            checkpoint_held: Loads::new(6 * m),
+            mark: Mark::default(),
         })
     }
 
@@ -119,8 +126,28 @@ impl Solver for Residual {
         self.held.set_rates(rates, self.inner.time());
         Ok(())
     }
-    fn step(&mut self, h: f64) -> Result<(), SolverError> {
-        self.inner.step(h)
+    fn step(&mut self, h: f64) -> Result<Option<SolverWarning>, SolverError> {
+        let held = self.mark.step();
+        let stepped = self.inner.step(h);
+        if stepped.is_err() && held {
+            self.held.copy_from(&self.checkpoint_held);
+        }
+        stepped
+    }
+    fn checkpoint(&mut self) {
+        self.inner.checkpoint();
+        self.checkpoint_held.copy_from(&self.held);
+        self.mark.set();
+    }
+    fn rewind(&mut self) -> Result<(), SolverError> {
+        let mut mark = self.mark;
+        if !mark.rewind() {
+            return Err(no_checkpoint());
+        }
+        self.inner.rewind()?;
+        self.held.copy_from(&self.checkpoint_held);
+        self.mark = mark;
+        Ok(())
     }
     fn positions(&self, out: &mut [f64]) {
         self.inner.positions(out);
@@ -183,10 +210,6 @@ impl Solver for Residual {
         self.held.save_time_first(&mut s.data);
         s
     }
-    fn state_into(&self, out: &mut State) {
-        self.inner.state_into(out);
-        self.held.save_time_first(&mut out.data);
-    }
     fn set_state(&mut self, state: &State) -> Result<(), SolverError> {
         let tail = self.held.state_len();
         if state.data.len() < tail {
@@ -202,6 +225,7 @@ impl Solver for Residual {
         };
         self.inner.set_state(&inner)?;
         self.held.load_time_first(rest);
+        self.mark.forget();
         Ok(())
     }
 }

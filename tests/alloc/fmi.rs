@@ -7,8 +7,8 @@
 
 use std::path::PathBuf;
 
-use fxbody::fmu::model::{Model, Phase};
 use fxbody::fmu::pack::{PackRequest, prepare};
+use fxbody::fmu::simulation::{Phase, Simulation};
 use fxbody::fmu::vars::{Causality, Kind};
 
 use crate::alloc_counter;
@@ -43,7 +43,7 @@ fn run(body: &str, nodes: Option<Vec<i64>>, method: i32, h: f64) {
             .iter()
             .any(|v| v.causality == Causality::Output && v.name == "energy.kinetic")
     );
-    let mut m = Model::new(p.scene.clone(), p.guid.clone());
+    let mut m = Simulation::new(p.scene.clone(), p.guid.clone());
     m.set_integer(vr("method"), method, Phase::Configuring)
         .unwrap();
     m.setup(0.0, None).unwrap();

@@ -30,14 +30,13 @@ fn stepping_does_not_allocate() {
             s.set_load_rates(&vec![0.1; loads.len()]).unwrap();
             let mut out = vec![0.0; 3 * b.x.len()];
             s.step(0.01).unwrap();
-            // The per-step rollback buffer of the FMU model: once it has held a state,
-            // saving into it again allocates nothing (issue 13).
-            let mut saved = s.state();
+            // The per-step checkpoint the FMU model takes: once the solver has saved a
+            // state, saving it again allocates nothing (issue 13).
+            s.checkpoint();
             let before = alloc_counter::allocations();
             for _ in 0..50 {
-                s.state_into(&mut saved);
-                s.step(0.013).unwrap();
-                std::hint::black_box(s.take_warning());
+                s.checkpoint();
+                std::hint::black_box(s.step(0.013).unwrap());
                 s.positions(&mut out);
                 s.velocities(&mut out);
                 s.accelerations(&mut out);
@@ -51,8 +50,11 @@ fn stepping_does_not_allocate() {
                 n, 0,
                 "{method:?} irot={irot}: {n} allocations while stepping"
             );
-            // state_into saves what state() saves.
-            s.state_into(&mut saved);
+            // The checkpoint holds what state() saves: a rewind goes back to it.
+            let saved = s.state();
+            s.checkpoint();
+            s.step(0.013).unwrap();
+            s.rewind().unwrap();
             assert_eq!(saved, s.state());
         }
     }
@@ -78,16 +80,14 @@ fn halving_does_not_allocate() {
     sc.w0 = [3.0, 0.0, 0.0];
     let mut s = Explicit::new(&sc, &Options::default()).unwrap();
     s.set_loads(&[0.0, 1.0, 0.0, 0.0, 0.0, 0.5]).unwrap();
-    let mut saved = s.state();
+    s.checkpoint();
     for _ in 0..2 {
-        s.step(1e-3).unwrap();
-        std::hint::black_box(s.take_warning());
+        std::hint::black_box(s.step(1e-3).unwrap());
     }
     let (halved, before) = (s.halved_steps(), alloc_counter::allocations());
     for _ in 0..3 {
-        s.state_into(&mut saved);
-        s.step(1e-3).unwrap();
-        assert!(s.take_warning().is_none());
+        s.checkpoint();
+        assert!(s.step(1e-3).unwrap().is_none());
     }
     let n = alloc_counter::allocations() - before;
     assert!(

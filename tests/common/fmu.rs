@@ -343,7 +343,7 @@ impl Slave {
     pub fn fingerprint(&self) -> Vec<u8> {
         // SAFETY: as in `fmi_state`.
         let inner = unsafe { &*self.c.cast::<Inner>() };
-        inner.model.snapshot(0).to_bytes("fingerprint")
+        inner.simulation.snapshot(0).to_bytes("fingerprint")
     }
 
     /// Messages so far.

@@ -64,8 +64,8 @@ pub fn run(args: &InfoArgs) -> Result<(), String> {
     // The node list is checked before anything is printed.
     let modes = match &args.nodes {
         Some(ids) => {
-            let nodes =
-                fxbody::reduce::node_indices(&body, &ids.0).map_err(|e| format!("--nodes: {e}"))?;
+            let nodes = fxbody::scene::reduce::node_indices(&body, &ids.0)
+                .map_err(|e| format!("--nodes: {e}"))?;
             Some(super::info_modes::report(&body, &nodes, args.json))
         }
         None => None,

@@ -10,7 +10,7 @@
 use std::fmt::Write;
 
 use fxbody::body::Body;
-use fxbody::reduce::{effective_mass, static_participation};
+use fxbody::scene::reduce::{effective_mass, static_participation};
 
 const DIRS: [&str; 6] = ["X", "Y", "Z", "XX", "YY", "ZZ"];
 

@@ -1,6 +1,6 @@
 //! `fxbody reduce FILE -o OUT.fxb [--nodes ID,...] [--fmax HZ]`: a smaller, valid `.fxb`
 //! holding only the chosen nodes' mode rows and the modes up to fmax
-//! ([`fxbody::reduce`]). The dropped modes' residual flexibility cannot be written in the
+//! ([`fxbody::scene::reduce`]). The dropped modes' residual flexibility cannot be written in the
 //! file format: it is printed, and `fxbody pack --fmax` recomputes it from the full file.
 
 use std::fmt::Write;
@@ -8,7 +8,7 @@ use std::path::PathBuf;
 
 use fxbody::fxb;
 use fxbody::num::{count, num};
-use fxbody::reduce::{ReduceError, node_indices, select_nodes, to_fxb, truncate};
+use fxbody::scene::reduce::{ReduceError, node_indices, select_nodes, to_fxb, truncate};
 
 /// Arguments of `reduce`.
 #[derive(Debug, clap::Args)]

@@ -1,10 +1,10 @@
 //! Tests of the step guard: the fast paths against full evaluations and a twin that
 //! checks every step.
 
-use crate::fmu::model::{Model, Phase};
+use crate::fmu::simulation::{Phase, Simulation};
 
 /// Every Real output of `m`, read through the model as a master reads them.
-fn outputs(m: &mut Model) -> Vec<f64> {
+fn outputs(m: &mut Simulation) -> Vec<f64> {
     let outs = m.table.output_refs();
     let mut vals = vec![0.0; outs.len()];
     m.get_reals(&outs, &mut vals).unwrap();
@@ -18,14 +18,14 @@ fn outputs(m: &mut Model) -> Vec<f64> {
 /// full check, and refused).
 #[test]
 fn an_accepted_step_has_every_output_finite() {
-    let full = crate::fmu::scene_io::cantilever_tip_scene();
+    let full = crate::scene::io::cantilever_tip_scene();
     let (cut, _) = full.truncated(40.0).unwrap();
     let (mut fast, mut slow, mut refused) = (0, 0, 0);
     for scene in [full, cut] {
         for method in [1, 2, 3] {
             for k in (0..=301).step_by(7) {
                 let bound = super::output_bound(&scene, &crate::solver::Options::default());
-                let mut m = Model::new(scene.clone(), "{g}".into());
+                let mut m = Simulation::new(scene.clone(), "{g}".into());
                 let vr = |name: &str| m.table.vars.iter().find(|v| v.name == name).unwrap().vr;
                 let (fy, meth) = (vr("node_121.fy"), vr("method"));
                 m.set_integer(meth, method, Phase::Configuring).unwrap();
@@ -65,11 +65,11 @@ fn an_accepted_step_has_every_output_finite() {
 /// accepted steps equal a twin's whose guard saved the state before every step.
 #[test]
 fn a_refused_step_restores_after_any_change_between_steps() {
-    let full = crate::fmu::scene_io::cantilever_tip_scene();
+    let full = crate::scene::io::cantilever_tip_scene();
     let (cut, _) = full.truncated(40.0).unwrap();
     for scene in [full, cut] {
-        let mut m = Model::new(scene.clone(), "{g}".into());
-        let mut twin = Model::new(scene, "{g}".into());
+        let mut m = Simulation::new(scene.clone(), "{g}".into());
+        let mut twin = Simulation::new(scene, "{g}".into());
         let vr = |name: &str| m.table.vars.iter().find(|v| v.name == name).unwrap().vr;
         let (fy, y) = (vr("node_121.fy"), vr("node_121.y"));
         for x in [&mut m, &mut twin] {
@@ -124,9 +124,9 @@ fn a_refused_step_restores_after_any_change_between_steps() {
 /// some steps.
 #[test]
 fn a_bounded_step_is_one_the_checked_path_accepts_alike() {
-    let scene = crate::fmu::scene_io::cantilever_tip_scene();
-    let mut m = Model::new(scene.clone(), "{g}".into());
-    let mut twin = Model::new(scene, "{g}".into());
+    let scene = crate::scene::io::cantilever_tip_scene();
+    let mut m = Simulation::new(scene.clone(), "{g}".into());
+    let mut twin = Simulation::new(scene, "{g}".into());
     let vr = |name: &str| m.table.vars.iter().find(|v| v.name == name).unwrap().vr;
     let (fy, meth) = (vr("node_121.fy"), vr("method"));
     for x in [&mut m, &mut twin] {
@@ -189,7 +189,7 @@ fn a_bounded_step_is_one_the_checked_path_accepts_alike() {
 fn a_state_below_the_bound_gives_finite_outputs_whatever_the_parameters() {
     use crate::solver::{Method, Options, build};
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    let blocked = crate::fmu::scene_io::cantilever_tip_scene();
+    let blocked = crate::scene::io::cantilever_tip_scene();
     let free = {
         let body = crate::body::load(&root.join("fixtures/freefree.fxb")).unwrap();
         let x = body.rigid_mode_positions().unwrap();

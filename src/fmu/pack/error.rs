@@ -6,10 +6,10 @@ use std::path::PathBuf;
 use crate::body::LoadError;
 use crate::body::placement::PlacementError;
 use crate::fmu::options::UnknownUnits;
-use crate::fmu::scene_io::SceneError;
 use crate::fmu::zip::ZipError;
 use crate::fxb::coords::CoordsError;
 use crate::fxb::input::InputError;
+use crate::scene::io::SceneError;
 
 /// Why packing failed: each names the file or option at fault.
 #[derive(Debug, thiserror::Error)]

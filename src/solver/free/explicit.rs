@@ -49,16 +49,18 @@ use std::cell::RefCell;
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 
 use super::lu::Lu;
-use super::{Loads, MAX_FRAME_ERROR, Model, SPIN_STEP, frame_omega, point_vec, spin_warning};
-use super::{Undo, all_or_nothing};
+use super::{FreeScene, Loads, MAX_FRAME_ERROR, SPIN_STEP, frame_omega, point_vec, spin_warning};
 use crate::scene::Scene;
 use crate::solver::nodes::check_state;
-use crate::solver::{Frame, MAX_INTERNAL_STEPS, Method, Options, Solver, SolverError, State};
+use crate::solver::rollback::{Restorable, Rollback};
+use crate::solver::{
+    Frame, MAX_INTERNAL_STEPS, Method, Options, Solver, SolverError, SolverWarning, State,
+};
 
 /// The explicit central-difference solver for a free body.
 #[derive(Debug, Clone)]
 pub struct Explicit {
-    m: Model,
+    m: FreeScene,
     opts: Options,
     dt_fx: f64,
     t: f64,
@@ -77,12 +79,11 @@ pub struct Explicit {
     /// Synchronised coordinate velocities, filled on demand by the output getters
     /// (which take `&self` and must not allocate).
     v_out: RefCell<DVector<f64>>,
-    /// The state before the current step, restored when the step fails (preallocated).
-    backup: State,
+    /// The state before the current step, restored when the step fails (sized at
+    /// build).
+    rollback: Rollback,
     /// The spin-rate warning was raised (once per solver).
     warned: bool,
-    /// A warning of the last step, not yet taken.
-    warning: Option<String>,
     /// Largest rotation per internal step (`SPIN_STEP` unless changed).
     spin_step: f64,
     /// Largest `|P^T P - I|` a step may leave (`MAX_FRAME_ERROR` unless changed).
@@ -122,7 +123,7 @@ impl Explicit {
     /// Build the solver for a free-body scene, at rest or with the scene's initial
     /// velocity, at t = 0.
     pub fn new(scene: &Scene, opts: &Options) -> Result<Explicit, SolverError> {
-        let m = Model::new(scene, opts.damping_ratio)?;
+        let m = FreeScene::new(scene, opts.damping_ratio)?;
         let (nr, nl, nq) = (m.nr, m.nl, m.nq());
         // The local modes' stable step (the one `fxbody info` reports, shortened by an
         // added damping ratio); shortened below for the modes coupled to the rigid motion.
@@ -159,12 +160,8 @@ impl Explicit {
             jump: false,
             w,
             v_out: RefCell::new(DVector::zeros(nq)),
-            backup: State {
-                method: Method::Explicit,
-                data: Vec::new(),
-            },
+            rollback: Rollback::new(Method::Explicit, 0),
             warned: false,
-            warning: None,
             spin_step: SPIN_STEP,
             frame_tol: MAX_FRAME_ERROR,
             sub_q: DVector::zeros(nq),
@@ -182,7 +179,7 @@ impl Explicit {
         }
         crate::solver::damping::check_explicit_step(s.dt_fx, opts.damping_ratio)?;
         s.evaluate_outputs()?;
-        s.backup.data.reserve(s.state_len());
+        s.rollback = Rollback::new(Method::Explicit, s.state_len());
         Ok(s)
     }
 
@@ -377,7 +374,7 @@ impl Explicit {
 }
 
 impl Solver for Explicit {
-    free_solver_common!(Method::Explicit);
+    free_solver_common!();
 
     fn method(&self) -> Method {
         Method::Explicit
@@ -414,27 +411,30 @@ impl Solver for Explicit {
     /// limit exceed [`MAX_INTERNAL_STEPS`] (the limit shrinks as the spin rate grows, so
     /// a spin-up within the step that pushes the count past the budget is refused when
     /// it happens). On any error the state is as before the call.
-    fn step(&mut self, h: f64) -> Result<(), SolverError> {
-        if !(h.is_finite() && h > 0.0) {
-            return Err(SolverError::BadStep(h));
-        }
-        let (n, dt) = self.internal_step(h);
-        if n > MAX_INTERNAL_STEPS {
-            let internal = self.step_limit();
-            return Err(SolverError::TooManySteps {
-                h,
-                steps: n,
-                internal: dt.min(internal),
-                max_h: MAX_INTERNAL_STEPS * internal,
-            });
-        }
-        all_or_nothing(self, |s| s.run_step(h))?;
-        self.warning = spin_warning(
+    fn step(&mut self, h: f64) -> Result<Option<SolverWarning>, SolverError> {
+        // The checks run inside the rollback: a refusal after a checkpoint goes back to
+        // it, whatever refuses the step.
+        Rollback::step(self, true, |s| {
+            if !(h.is_finite() && h > 0.0) {
+                return Err(SolverError::BadStep(h));
+            }
+            let (n, dt) = s.internal_step(h);
+            if n > MAX_INTERNAL_STEPS {
+                let internal = s.step_limit();
+                return Err(SolverError::TooManySteps {
+                    h,
+                    steps: n,
+                    internal: dt.min(internal),
+                    max_h: MAX_INTERNAL_STEPS * internal,
+                });
+            }
+            s.run_step(h)
+        })?;
+        Ok(spin_warning(
             &self.m,
             self.frame_angular_velocity().norm(),
             &mut self.warned,
-        );
-        Ok(())
+        ))
     }
 
     fn velocities(&self, out: &mut [f64]) {
@@ -498,15 +498,21 @@ impl Solver for Explicit {
         o += 9;
         self.loads.load(&d[o..]);
         self.w.key = super::NO_KEY;
+        self.rollback.forget();
         Ok(())
     }
 }
 
-impl Undo for Explicit {
-    fn backup(&mut self) -> &mut State {
-        &mut self.backup
+impl Restorable for Explicit {
+    fn rollback(&mut self) -> &mut Rollback {
+        &mut self.rollback
     }
-    fn save_into(&self, out: &mut Vec<f64>) {
-        self.write_state(out);
+
+    fn write_state(&self, out: &mut Vec<f64>) {
+        Explicit::write_state(self, out);
+    }
+
+    fn state_len(&self) -> usize {
+        Explicit::state_len(self)
     }
 }

@@ -38,13 +38,15 @@ use nalgebra::{DMatrix, DVector, Matrix3};
 
 use super::lu::Lu;
 use super::{
-    Loads, MAX_FRAME_ERROR, Model, PAIRS, frame_error, frame_invalid, frame_omega,
+    FreeScene, Loads, MAX_FRAME_ERROR, PAIRS, frame_error, frame_invalid, frame_omega,
     omega_rate_from_frame, point_vec, spin_warning,
 };
-use super::{Undo, all_or_nothing};
 use crate::scene::Scene;
 use crate::solver::nodes::check_state;
-use crate::solver::{Frame, MAX_INTERNAL_STEPS, Method, Options, Solver, SolverError, State};
+use crate::solver::rollback::{Restorable, Rollback};
+use crate::solver::{
+    Frame, MAX_INTERNAL_STEPS, Method, Options, Solver, SolverError, SolverWarning, State,
+};
 
 /// Largest spectral radius accepted for free bodies. At exactly 1 (trapezoidal rule,
 /// no damping at infinity) the position-level constraints make the multipliers
@@ -79,7 +81,7 @@ impl Params {
 /// The implicit (generalised-alpha) solver for a free body.
 #[derive(Debug, Clone)]
 pub struct Implicit {
-    m: Model,
+    m: FreeScene,
     par: Params,
     t: f64,
     q: DVector<f64>,
@@ -98,12 +100,11 @@ pub struct Implicit {
     lag: Vec<f64>,
     /// The nodal loads whose acceleration `held` solves for (preallocated).
     shift: Loads,
-    /// The state before the current step, restored when the step fails (preallocated).
-    backup: State,
+    /// The state before the current step, restored when the step fails (sized at
+    /// build).
+    rollback: Rollback,
     /// The spin-rate warning was raised (once per solver).
     warned: bool,
-    /// A warning of the last step, not yet taken.
-    warning: Option<String>,
     loads: Loads,
     p: Matrix3<f64>,
     w: Work,
@@ -154,7 +155,7 @@ impl Implicit {
                 ),
             });
         }
-        let m = Model::new(scene, opts.damping_ratio)?;
+        let m = FreeScene::new(scene, opts.damping_ratio)?;
         let (nr, nl, nq, nc) = (m.nr, m.nl, m.nq(), m.nc());
         let mut v = DVector::zeros(nq);
         m.initial_velocity(scene.v0, scene.w0, &mut v);
@@ -201,17 +202,13 @@ impl Implicit {
             jump: vec![0.0; 6 * m.nexp],
             lag: vec![0.0; 6 * m.nexp],
             shift: Loads::new(6 * m.nexp),
-            backup: State {
-                method: Method::Implicit,
-                data: Vec::new(),
-            },
+            rollback: Rollback::new(Method::Implicit, 0),
             warned: false,
-            warning: None,
             m,
             w,
         };
         s.initial_accelerations()?;
-        s.backup.data.reserve(s.state_len());
+        s.rollback = Rollback::new(Method::Implicit, s.state_len());
         Ok(s)
     }
 
@@ -371,7 +368,7 @@ pub const MAX_NEWTON_PER_STEP: usize = newton::MAX_ITER * ((2 << MAX_SPLIT) - 1)
 const _: () = assert!(MAX_NEWTON_PER_STEP as f64 <= MAX_INTERNAL_STEPS);
 
 /// The rigid mass M_R into the top-left of the reduced (rigid + constraint) matrix.
-fn fill_mass(m: &Model, kkt: &mut Lu) {
+fn fill_mass(m: &FreeScene, kkt: &mut Lu) {
     for i in 0..m.nr {
         for k in 0..m.nr {
             *kkt.at(i, k) = m.m_r[(i, k)];
@@ -380,7 +377,7 @@ fn fill_mass(m: &Model, kkt: &mut Lu) {
 }
 
 impl Solver for Implicit {
-    free_solver_common!(Method::Implicit);
+    free_solver_common!();
     free_solver_sampled_velocity!();
 
     fn method(&self) -> Method {
@@ -406,13 +403,16 @@ impl Solver for Implicit {
 
     /// Advance by `h`. The work is bounded ([`MAX_NEWTON_PER_STEP`]); on any error the
     /// state is as before the call.
-    fn step(&mut self, h: f64) -> Result<(), SolverError> {
-        if !(h.is_finite() && h > 0.0) {
-            return Err(SolverError::BadStep(h));
-        }
-        all_or_nothing(self, |s| s.run_step(h))?;
-        self.warning = spin_warning(&self.m, self.spin_rate(), &mut self.warned);
-        Ok(())
+    fn step(&mut self, h: f64) -> Result<Option<SolverWarning>, SolverError> {
+        // The check runs inside the rollback: a refusal after a checkpoint goes back to
+        // it, whatever refuses the step.
+        Rollback::step(self, true, |s| {
+            if !(h.is_finite() && h > 0.0) {
+                return Err(SolverError::BadStep(h));
+            }
+            s.run_step(h)
+        })?;
+        Ok(spin_warning(&self.m, self.spin_rate(), &mut self.warned))
     }
 
     fn set_state(&mut self, state: &State) -> Result<(), SolverError> {
@@ -434,15 +434,21 @@ impl Solver for Implicit {
         self.jump.copy_from_slice(&d[o..o + n]);
         self.lag.copy_from_slice(&d[o + n..o + 2 * n]);
         self.p = self.m.frame_of(self.q.as_slice());
+        self.rollback.forget();
         Ok(())
     }
 }
 
-impl Undo for Implicit {
-    fn backup(&mut self) -> &mut State {
-        &mut self.backup
+impl Restorable for Implicit {
+    fn rollback(&mut self) -> &mut Rollback {
+        &mut self.rollback
     }
-    fn save_into(&self, out: &mut Vec<f64>) {
-        self.write_state(out);
+
+    fn write_state(&self, out: &mut Vec<f64>) {
+        Implicit::write_state(self, out);
+    }
+
+    fn state_len(&self) -> usize {
+        Implicit::state_len(self)
     }
 }

@@ -1,5 +1,5 @@
 //! The rotation vector of a rotation matrix, for the node rotation outputs of the free
-//! methods ([`super::Model::rotations`]).
+//! methods ([`super::FreeScene::rotations`]).
 
 use nalgebra::{Matrix3, Vector3};
 

@@ -31,15 +31,17 @@ mod rigid;
 use nalgebra::{DMatrix, DVector, Matrix3, Matrix6, SMatrix, Vector3, Vector6};
 
 use super::{
-    Loads, MAX_FRAME_ERROR, Model, SINGULAR_RATIO, frame_error, frame_invalid, point_offset,
+    FreeScene, Loads, MAX_FRAME_ERROR, SINGULAR_RATIO, frame_error, frame_invalid, point_offset,
     singular_error, spin_warning,
 };
-use super::{Undo, all_or_nothing};
 use crate::num::num;
 use crate::scene::Scene;
 use crate::solver::expm::mode_coefficients;
 use crate::solver::nodes::check_state;
-use crate::solver::{Frame, MAX_INTERNAL_STEPS, Method, Options, Solver, SolverError, State};
+use crate::solver::rollback::{Restorable, Rollback};
+use crate::solver::{
+    Frame, MAX_INTERNAL_STEPS, Method, Options, Solver, SolverError, SolverWarning, State,
+};
 
 /// Largest rotation of the frame per internal step (rad): a communication step is cut
 /// into equal internal steps of at most `ROT_STEP / |omega|`. The frame's error is
@@ -51,7 +53,7 @@ pub const ROT_STEP: f64 = 0.1;
 /// The split (Strang) solver for a free body.
 #[derive(Debug, Clone)]
 pub struct Split {
-    m: Model,
+    m: FreeScene,
     t: f64,
     /// Displacement of L0 from its initial position.
     d: Vector3<f64>,
@@ -74,9 +76,10 @@ pub struct Split {
     coef: [Vec<f64>; 2],
     coef_h: [f64; 2],
     next_slot: usize,
-    backup: State,
+    /// The state before the current step, restored when the step fails (sized at
+    /// build).
+    rollback: Rollback,
     warned: bool,
-    warning: Option<String>,
 }
 
 /// What depends on the body only.
@@ -119,7 +122,7 @@ impl Split {
     /// `opts.damping_ratio` adds `2 zeta w_i` to every mode of the split's own basis
     /// (`K_L`, `m_eff`), on top of Rayleigh ([`crate::solver::damping`]).
     pub fn new(scene: &Scene, opts: &Options) -> Result<Split, SolverError> {
-        let m = Model::new(scene, opts.damping_ratio)?;
+        let m = FreeScene::new(scene, opts.damping_ratio)?;
         let zeta = opts.damping_ratio;
         let (nr, nl, nq) = (m.nr, m.nl, m.nq());
         // The file's P0 is a rotation to its printed digits only (1e-10 on the
@@ -213,15 +216,11 @@ impl Split {
             coef: [vec![0.0; 8 * nl], vec![0.0; 8 * nl]],
             coef_h: [f64::NAN; 2],
             next_slot: 0,
-            backup: State {
-                method: Method::Split,
-                data: Vec::new(),
-            },
+            rollback: Rollback::new(Method::Split, 0),
             warned: false,
-            warning: None,
             m,
         };
-        s.backup.data.reserve(s.state_len());
+        s.rollback = Rollback::new(Method::Split, s.state_len());
         s.refresh()?;
         Ok(s)
     }
@@ -639,7 +638,7 @@ fn advance(coef: &[f64], f0: &[f64], f1: &[f64], y: &mut [f64], v: &mut [f64]) {
 }
 
 impl Solver for Split {
-    free_solver_common!(Method::Split);
+    free_solver_common!();
     free_solver_sampled_velocity!();
 
     fn method(&self) -> Method {
@@ -663,14 +662,17 @@ impl Solver for Split {
     }
 
     /// Advance by `h`; on any error the state is as before the call.
-    fn step(&mut self, h: f64) -> Result<(), SolverError> {
-        if !(h.is_finite() && h > 0.0) {
-            return Err(SolverError::BadStep(h));
-        }
-        all_or_nothing(self, |s| s.run_step(h))?;
+    fn step(&mut self, h: f64) -> Result<Option<SolverWarning>, SolverError> {
+        // The check runs inside the rollback: a refusal after a checkpoint goes back to
+        // it, whatever refuses the step.
+        Rollback::step(self, true, |s| {
+            if !(h.is_finite() && h > 0.0) {
+                return Err(SolverError::BadStep(h));
+            }
+            s.run_step(h)
+        })?;
         let spin = self.spin_rate();
-        self.warning = spin_warning(&self.m, spin, &mut self.warned);
-        Ok(())
+        Ok(spin_warning(&self.m, spin, &mut self.warned))
     }
 
     fn set_state(&mut self, state: &State) -> Result<(), SolverError> {
@@ -685,15 +687,21 @@ impl Solver for Split {
         self.y.copy_from_slice(&d[22..22 + nl]);
         self.yd.copy_from_slice(&d[22 + nl..22 + 2 * nl]);
         self.loads.load(&d[22 + 2 * nl..]);
+        self.rollback.forget();
         self.refresh()
     }
 }
 
-impl Undo for Split {
-    fn backup(&mut self) -> &mut State {
-        &mut self.backup
+impl Restorable for Split {
+    fn rollback(&mut self) -> &mut Rollback {
+        &mut self.rollback
     }
-    fn save_into(&self, out: &mut Vec<f64>) {
-        self.write_state(out);
+
+    fn write_state(&self, out: &mut Vec<f64>) {
+        Split::write_state(self, out);
+    }
+
+    fn state_len(&self) -> usize {
+        Split::state_len(self)
     }
 }

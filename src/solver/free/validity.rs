@@ -6,9 +6,9 @@
 
 use nalgebra::Matrix3;
 
-use super::Model;
+use super::FreeScene;
 use crate::num::num;
-use crate::solver::SolverError;
+use crate::solver::{SolverError, SolverWarning};
 
 /// Pivot ratio below which a saddle-point matrix counts as singular.
 pub(crate) const SINGULAR_RATIO: f64 = 1e-13;
@@ -136,21 +136,14 @@ pub const FRAME_RETRY_FRACTION: f64 = 0.1;
 pub const MAX_HALVINGS: u32 = 10;
 
 /// Spin-rate check at the end of a step: when `|omega|` passes `SPIN_WARN_RATIO x
-/// omega_1` for the first time in this solver's life, the warning text (else `None`).
-pub(crate) fn spin_warning(m: &Model, spin: f64, warned: &mut bool) -> Option<String> {
+/// omega_1` for the first time in this solver's life, the warning (else `None`).
+pub(crate) fn spin_warning(m: &FreeScene, spin: f64, warned: &mut bool) -> Option<SolverWarning> {
     if *warned || spin.is_nan() || spin <= SPIN_WARN_RATIO * m.omega1 {
         return None;
     }
     *warned = true;
-    Some(format!(
-        "the body spins at {} rad/s, {} times the first local mode's circular frequency {} \
-         rad/s (warning from {} times): the model has no centrifugal stiffening or spin \
-         softening, so its deformation is no longer valid at this spin rate; results may \
-         be wrong. Reduce the spin rate, or use a body whose modes were computed for it \
-         (stiffer, or pre-stressed). Warned once per instance",
-        num(spin),
-        num(spin / m.omega1),
-        num(m.omega1),
-        num(SPIN_WARN_RATIO)
-    ))
+    Some(SolverWarning::SpinRate {
+        spin,
+        omega1: m.omega1,
+    })
 }

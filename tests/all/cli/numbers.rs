@@ -169,7 +169,7 @@ fn library_messages_print_numbers_short() {
             stop_given: true,
         }
         .to_string(),
-        fxbody::reduce::ReduceError::BadFmax(-1e300).to_string(),
+        fxbody::scene::reduce::ReduceError::BadFmax(-1e300).to_string(),
     ];
     for m in &messages {
         assert_short_numbers(m, m);

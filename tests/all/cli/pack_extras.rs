@@ -18,7 +18,7 @@ use std::collections::HashMap;
 use std::path::Path;
 use std::process::{Command, Output};
 
-use fxbody::fmu::model::Model;
+use fxbody::fmu::simulation::Simulation;
 use fxbody::solver::{self, Method, Options};
 
 use crate::common::c_build;
@@ -227,7 +227,7 @@ fn step_stop_and_method_reach_the_description_and_the_running_fmu() {
     assert_eq!(t[k + 1].1["start"], "1", "explicit");
     let scene = String::from_utf8(files["resources/scene.txt"].clone()).unwrap();
     assert!(scene.contains("fmax = 2000.0\n") && scene.contains("method = explicit\n"));
-    let model = Model::from_resources(&unz.join("resources")).unwrap();
+    let model = Simulation::from_resources(&unz.join("resources")).unwrap();
     assert_eq!(model.method(), Method::Explicit);
 
     // A C master naming variables through the header drives the FMU with its start method.
@@ -254,7 +254,7 @@ fn step_stop_and_method_reach_the_description_and_the_running_fmu() {
     let y_c: f64 = f[0].parse().unwrap();
     assert_eq!(f[1], "1", "method read back through TIP_VR_METHOD");
     assert_eq!(f[2], model.table.vars.len().to_string());
-    let res = fxbody::fmu::scene_io::load_resources(&unz.join("resources")).unwrap();
+    let res = fxbody::scene::io::load_resources(&unz.join("resources")).unwrap();
     let run_rust = |m: Method| {
         let mut s = solver::build(&res.scene, m, &Options::default()).unwrap();
         let mut loads = vec![0.0; 12];
@@ -322,7 +322,7 @@ fn pack_options_are_refused_where_they_cannot_apply() {
     ok(&run(&["pack", free, "--method", "explicit", "-o", o]));
     let unz = d.join("unz");
     unzip(&out, &unz);
-    let m = Model::from_resources(&unz.join("resources")).unwrap();
+    let m = Simulation::from_resources(&unz.join("resources")).unwrap();
     assert_eq!(m.method(), Method::Explicit);
     let _ = std::fs::remove_dir_all(&d);
 }

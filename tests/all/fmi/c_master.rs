@@ -7,7 +7,7 @@ use crate::common::fmu::unpack_tip;
 
 use std::process::Command;
 
-use fxbody::fmu::scene_io::load_resources;
+use fxbody::scene::io::load_resources;
 use fxbody::solver::{self, Method, Options};
 
 #[test]

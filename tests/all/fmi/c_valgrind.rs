@@ -41,7 +41,7 @@ fn careless_c_master_and_short_valgrind_pass() {
 
     // Reference: the Rust solver over the same scene with the driver's loads (input
     // rates included: the driver sets d/dt of the load each step).
-    let res = fxbody::fmu::scene_io::load_resources(&fx.dir.join("resources")).unwrap();
+    let res = fxbody::scene::io::load_resources(&fx.dir.join("resources")).unwrap();
     let method = fx.p.table.default_method;
     let pos = rust_replay(&res.scene, method, steps);
     assert!(pos[1].abs() > 1e-7, "a real deflection {}", pos[1]);
@@ -100,7 +100,7 @@ fn careless_on_free(name: &str, node: i64) {
     let fx = crate::common::fmu::packed_body(&format!("cdriver_{name}"), name, node);
     let exe = fx.dir.join("robust_driver");
     c_build::compile_c_master("robust_driver.c", &exe, &["-g", "-O1"]);
-    let res = fxbody::fmu::scene_io::load_resources(&fx.dir.join("resources")).unwrap();
+    let res = fxbody::scene::io::load_resources(&fx.dir.join("resources")).unwrap();
     let valgrind = tool_available("valgrind", "the memcheck pass");
     // A longer pass on demand: FXBODY_MEMCHECK_STEPS=N.
     let memcheck_steps: usize = std::env::var("FXBODY_MEMCHECK_STEPS")

@@ -418,7 +418,7 @@ fn ulps(a: f64, b: f64, start: f64) -> f64 {
 /// ways pass over a million steps; a point 0.5 s ahead at t = 1e9 is refused.
 #[test]
 fn communication_point_tolerance_scales_with_the_time() {
-    use fxbody::fmu::model::check_step_times;
+    use fxbody::fmu::simulation::check_step_times;
     let h = 1e-3;
     let n = 1_000_000;
     // Three masters, the FMU adopting the master's t + h after each step:

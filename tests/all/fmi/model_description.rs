@@ -13,7 +13,7 @@ use std::path::Path;
 
 use crate::common::root;
 use fxbody::fmu::pack::{PackRequest, prepare};
-use fxbody::fmu::scene_io::load_resources;
+use fxbody::scene::io::load_resources;
 
 const BODIES: [&str; 4] = ["cantilever", "cantilever_damped", "freefree", "truss"];
 
@@ -174,7 +174,7 @@ fn free_body_coordinates_from_rigid_modes_match_the_deck() {
     // Independent reference: the fixture's /NODE deck and its centre of mass (the
     // generator puts L0 there): deck - com must equal P0 (X, Y, Z) from the rigid modes.
     let body = fxbody::body::load(&root().join("fixtures/freefree.fxb")).unwrap();
-    let derived = fxbody::fmu::scene_io::coords_from_rigid_modes(&body).unwrap();
+    let derived = fxbody::scene::io::coords_from_rigid_modes(&body).unwrap();
     let deck =
         fxbody::fxb::coords::read_coords(&root().join("fixtures/freefree.nodes.rad")).unwrap();
     let refj = std::fs::read_to_string(root().join("fixtures/freefree.ref.json")).unwrap();
@@ -192,7 +192,7 @@ fn free_body_coordinates_from_rigid_modes_match_the_deck() {
         "derived coordinates differ from deck - com by {worst}"
     );
     assert!(
-        fxbody::fmu::scene_io::coords_from_rigid_modes(
+        fxbody::scene::io::coords_from_rigid_modes(
             &fxbody::body::load(&root().join("fixtures/cantilever.fxb")).unwrap()
         )
         .is_none()

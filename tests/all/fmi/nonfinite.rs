@@ -209,7 +209,7 @@ fn explicit_steps_over_the_budget_are_refused_at_once() {
 /// systems printed "pivot ratio NaN".
 #[test]
 fn extreme_parameters_give_finite_outputs_or_a_usable_refusal() {
-    use fxbody::fmu::model::{Model, Phase};
+    use fxbody::fmu::simulation::{Phase, Simulation};
 
     use crate::common::fixture_scene;
 
@@ -239,9 +239,10 @@ fn extreme_parameters_give_finite_outputs_or_a_usable_refusal() {
             for &(name, value) in &all {
                 for h in [1e-3, 1.0] {
                     let what = format!("{body} method {method} {name} = {value:e} h = {h}");
-                    let mut m = Model::new(scene.clone(), "g".into());
-                    let vr =
-                        |m: &Model, n: &str| m.table.vars.iter().find(|v| v.name == n).unwrap().vr;
+                    let mut m = Simulation::new(scene.clone(), "g".into());
+                    let vr = |m: &Simulation, n: &str| {
+                        m.table.vars.iter().find(|v| v.name == n).unwrap().vr
+                    };
                     let (pvr, mvr) = (vr(&m, name), vr(&m, "method"));
                     let fy = vr(&m, &format!("node_{tip}.fy"));
                     m.set_integer(mvr, method, Phase::Configuring).unwrap();

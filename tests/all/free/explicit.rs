@@ -9,7 +9,7 @@ use crate::common::springs::*;
 use fxbody::body::Body;
 use fxbody::fxb::FxbFile;
 use fxbody::scene::Scene;
-use fxbody::solver::free::{Explicit, coords_from_rigid_modes};
+use fxbody::solver::free::Explicit;
 use fxbody::solver::{Method, Options, Solver, SolverError, build};
 use nalgebra::Vector3;
 
@@ -462,7 +462,7 @@ fn coordinates_from_rigid_modes() {
             .map(|(x, m)| Vector3::from(*x) * *m)
             .sum::<Vector3<f64>>()
             / b.total_mass();
-    let xs = coords_from_rigid_modes(&body);
+    let xs = body.rigid_mode_positions().unwrap();
     assert_eq!(xs.len(), 8);
     for (got, x) in xs.iter().zip(&b.x) {
         let want = Vector3::from(*x) - com;

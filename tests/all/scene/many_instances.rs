@@ -6,8 +6,8 @@
 //! `fixtures/generate.py --large` takes about 20 s of Python to build.
 //! `cargo bench --bench instantiate` measures time and memory on the grillage itself.
 
-use fxbody::fmu::model::{Model, Phase};
 use fxbody::fmu::pack::{PackRequest, find_library, pack};
+use fxbody::fmu::simulation::{Phase, Simulation};
 use fxbody::fxb::FxbFile;
 use fxbody_host::FmuLibrary;
 
@@ -106,7 +106,7 @@ fn a_hundred_instances_of_a_two_node_scene_of_a_large_body() {
     let h = 1e-3;
     let load = |k: usize| (20.0 * k as f64 * h).sin();
     // The reference: the model built from the .fxb file, in safe Rust.
-    let mut m = Model::new(p.scene.clone(), p.guid.clone());
+    let mut m = Simulation::new(p.scene.clone(), p.guid.clone());
     m.setup(0.0, None).unwrap();
     let mut want = Vec::new();
     let mut o = [0.0; 2];

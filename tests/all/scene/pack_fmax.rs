@@ -7,8 +7,8 @@
 use crate::common::root;
 use fxbody::body::Body;
 use fxbody::body::load as load_body;
-use fxbody::fmu::model::{Model, Phase};
 use fxbody::fmu::pack::{Fmax, PackRequest, prepare_with};
+use fxbody::fmu::simulation::{Phase, Simulation};
 use fxbody::fmu::vars::Kind;
 use nalgebra::DMatrix;
 use serde_json::Value;
@@ -62,7 +62,7 @@ fn packed_truncation_feeds_through_and_tracks_the_reference() {
     );
     let y0 = p.scene.x0[0][1];
     let truncated = p.scene.body.clone();
-    let mut m = Model::new(p.scene, p.guid);
+    let mut m = Simulation::new(p.scene, p.guid);
     m.setup(0.0, None).unwrap();
     m.set_real(fy, 1.0, Phase::Configuring).unwrap();
     let mut out = [0.0];

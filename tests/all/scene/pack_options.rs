@@ -6,7 +6,7 @@ use crate::common::blocked::{IDENTITY, blocked_body};
 use crate::common::root;
 use fxbody::fmu::pack::{Fmax, PackRequest, prepare, prepare_with};
 use fxbody::fxb::write;
-use fxbody::reduce::to_fxb;
+use fxbody::scene::reduce::to_fxb;
 use serde_json::Value;
 
 fn cantilever() -> PackRequest {

@@ -7,7 +7,7 @@ use std::process::Command;
 
 use crate::common::fixture;
 use fxbody::body::load as load_body;
-use fxbody::reduce::{effective_mass, static_participation, truncate};
+use fxbody::scene::reduce::{effective_mass, static_participation, truncate};
 use nalgebra::{DMatrix, DVector};
 use serde_json::Value;
 

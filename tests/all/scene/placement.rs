@@ -9,8 +9,8 @@ use std::process::Command;
 use crate::common::root;
 
 use fxbody::fmu::pack::{PackRequest, prepare, resource_entries};
-use fxbody::fmu::scene_io::{SCENE_FILE, load_resources};
 use fxbody::fxb;
+use fxbody::scene::io::{SCENE_FILE, load_resources};
 
 const BODY: &str = "body_b0_r1_d0.fxb";
 

@@ -8,7 +8,7 @@ use std::process::Command;
 use crate::common::{fixture, fixture_reference as reference};
 use fxbody::body::Body;
 use fxbody::body::load as load_body;
-use fxbody::reduce::truncate;
+use fxbody::scene::reduce::truncate;
 use nalgebra::{DMatrix, DVector};
 
 /// Run `fxbody reduce` and read the output back.
@@ -121,7 +121,7 @@ fn reduced_file_plus_residual_keeps_the_static_deflection() {
     let (small, _) = reduce("cantilever_damped", "121,111", 50.0);
     let nodes = [full.node_index(121).unwrap(), full.node_index(111).unwrap()];
     let residual = truncate(&full, 50.0).unwrap().residual(&nodes);
-    let full_sub = fxbody::reduce::select_nodes(&full, &nodes);
+    let full_sub = fxbody::scene::reduce::select_nodes(&full, &nodes);
     for d in 0..12 {
         let mut f = DVector::zeros(12);
         f[d] = 1.0;

@@ -7,11 +7,11 @@ use std::path::Path;
 
 use crate::common::fixture;
 use crate::common::fmu::{Slave, packed};
-use fxbody::fmu::model::{Model, Phase};
 use fxbody::fmu::pack::{Fmax, PackRequest, Prepared, prepare_with, resource_entries};
-use fxbody::fmu::scene_io::{OPTIONS_FILE, SCENE_FILE};
+use fxbody::fmu::simulation::{Phase, Simulation};
 use fxbody::fmu::vars::Kind;
 use fxbody::fmu::xml::default_experiment;
+use fxbody::scene::io::{OPTIONS_FILE, SCENE_FILE};
 
 /// Steps each pair of models runs.
 const STEPS: usize = 300;
@@ -47,7 +47,7 @@ fn prepared(body: &str, fmax: bool) -> Prepared {
 /// Every value of every variable but `method` after each of [`STEPS`] steps under
 /// time-varying loads on every input (and gravity and a spin for a free body), and the
 /// refusal that ended the run early, if one did.
-fn run(mut m: Model, method: i32, h: f64) -> (Vec<u64>, Option<String>) {
+fn run(mut m: Simulation, method: i32, h: f64) -> (Vec<u64>, Option<String>) {
     let table = m.table.clone();
     let method_vr = table
         .vars
@@ -106,8 +106,8 @@ fn resources_run_bit_for_bit_as_the_fxb_on_every_fixture_and_method() {
             let p = prepared(body, fmax);
             let _ = std::fs::remove_dir_all(&dir);
             write_resources(&p, &dir);
-            let from_fxb = || Model::new(p.scene.clone(), p.guid.clone());
-            let from_file = || Model::from_resources(&dir.join("resources")).unwrap();
+            let from_fxb = || Simulation::new(p.scene.clone(), p.guid.clone());
+            let from_file = || Simulation::from_resources(&dir.join("resources")).unwrap();
             let m = from_file();
             assert_eq!(m.guid, p.guid, "{body}");
             // Only the exposed nodes' rows, only the kept modes.
@@ -305,7 +305,7 @@ fn every_damaged_scene_file_is_refused_at_instantiation_with_its_reason() {
 /// in the order the reader expects them.
 #[test]
 fn the_format_document_lists_every_section_in_file_order() {
-    use fxbody::fmu::scenefile::{SECTIONS, VERSION};
+    use fxbody::scene::file::{SECTIONS, VERSION};
     let doc = std::fs::read_to_string(crate::common::root().join("docs/SCENE_FORMAT.md")).unwrap();
     assert!(doc.starts_with(&format!(
         "# The scene file (`resources/scene.fxs`), format version {VERSION}"
@@ -371,7 +371,7 @@ fn embed_source_adds_the_body_file_and_nothing_else_changes() {
 
 /// A packed scene edited through the crate's own reader and writer (so the checksum is
 /// recomputed: the file is intact, its numbers are not), written into `dir`'s resources
-/// in place of the packed one; the refusal `Model::from_resources` (what fmi2Instantiate
+/// in place of the packed one; the refusal `Simulation::from_resources` (what fmi2Instantiate
 /// runs) gives, or `None` when the scene was accepted.
 fn refusal_of(
     dir: &Path,
@@ -379,15 +379,13 @@ fn refusal_of(
     edit: impl FnOnce(&mut fxbody::scene::Scene, &mut fxbody::body::Body),
 ) -> Option<String> {
     use std::sync::Arc;
-    let mut scene = fxbody::fmu::scenefile::from_bytes(good, "good")
-        .unwrap()
-        .scene;
+    let mut scene = fxbody::scene::file::from_bytes(good, "good").unwrap().scene;
     let mut body = (*scene.body).clone();
     edit(&mut scene, &mut body);
     scene.body = Arc::new(body);
     let path = dir.join("resources").join(SCENE_FILE);
-    std::fs::write(&path, fxbody::fmu::scenefile::to_bytes(&scene)).unwrap();
-    Model::from_resources(&dir.join("resources"))
+    std::fs::write(&path, fxbody::scene::file::to_bytes(&scene)).unwrap();
+    Simulation::from_resources(&dir.join("resources"))
         .err()
         .map(|e| e.to_string())
 }
@@ -537,7 +535,7 @@ fn a_scene_file_is_checked_like_a_body_at_instantiation() {
             ));
         }
         if name == "cantilever cut" {
-            use fxbody::reduce::Residual;
+            use fxbody::scene::reduce::Residual;
             use std::sync::Arc;
             let edit_r = |f: fn(&mut nalgebra::DMatrix<f64>)| -> Edit {
                 Box::new(move |s, _| {

@@ -1,5 +1,6 @@
 //! The blocked-body methods (exact, implicit, explicit) built by `solver::build`.
 
+mod all_or_nothing;
 mod damping_ratio;
 mod exact;
 mod fe_reference;

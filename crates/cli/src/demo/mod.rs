@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use fxbody::fmu::pack::{PackRequest, find_library, pack};
-use fxbody::fmu::scene_io::load_resources;
+use fxbody::scene::io::load_resources;
 use fxbody::solver::{self, Options};
 use fxbody_chart::{Curve, Panel, Scale, Style, svg};
 use fxbody_host::{FmuLibrary, file_uri};

@@ -23,7 +23,7 @@
 use crate::solver::SolverError;
 use crate::solver::free::{PAIRS, edge, omega_matrix, point_offset};
 
-use super::{Implicit, Model, fill_mass};
+use super::{FreeScene, Implicit, fill_mass};
 use crate::solver::free::lu::Lu;
 
 impl Implicit {
@@ -93,7 +93,7 @@ impl Implicit {
 /// The mass matrix with the frame constraints' rows and columns (their acceleration-level
 /// Jacobian, scaled by the mass scale as the Newton matrix is) into `kkt`, for the frame
 /// `p`: the matrix of the initial accelerations and of a load jump's.
-pub(super) fn mass_matrix(m: &Model, kkt: &mut Lu, p: &nalgebra::Matrix3<f64>) {
+pub(super) fn mass_matrix(m: &FreeScene, kkt: &mut Lu, p: &nalgebra::Matrix3<f64>) {
     let nr = m.nr;
     kkt.clear();
     fill_mass(m, kkt);

@@ -12,8 +12,8 @@ use super::{
 };
 use crate::body::{Body, Modal, Rayleigh};
 use crate::fmu::hash::fnv1a64_words;
-use crate::reduce::Residual;
 use crate::scene::Scene;
+use crate::scene::reduce::Residual;
 
 /// Read a scene file: [`from_bytes`] of the file's bytes.
 pub fn read(path: &Path) -> Result<Stored, ReadError> {

@@ -25,17 +25,16 @@ use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 use super::SolverError;
 use super::dense::bilinear;
 pub(crate) use super::loads::Loads;
-use crate::body::Body;
 use crate::scene::Scene;
 
 /// The [`crate::solver::Solver`] items every free method answers the same way from its
-/// coordinates `self.q`, its frame `self.p` and the shared [`Model`] `self.m` (positions,
-/// node rotations, modal coordinates, strain energy, the frame, the state wrapper for
-/// `$method`, the pending warning), written once. Invoked inside each method's
+/// coordinates `self.q`, its frame `self.p` and the shared [`FreeScene`] `self.m` (positions,
+/// node rotations, modal coordinates, strain energy, the frame, the state items of
+/// [`crate::solver::rollback`]), written once. Invoked inside each method's
 /// `impl Solver`; the method writes `write_state`, `state_len`, `set_state` and the
 /// velocity-dependent outputs itself.
 macro_rules! free_solver_common {
-    ($method:expr) => {
+    () => {
         fn positions(&self, out: &mut [f64]) {
             self.m.positions(&self.q, &self.p, out);
         }
@@ -56,27 +55,7 @@ macro_rules! free_solver_common {
             Some(self.m.frame(&self.q, &self.p))
         }
 
-        fn state(&self) -> State {
-            let mut d = Vec::with_capacity(self.state_len());
-            self.write_state(&mut d);
-            State {
-                method: $method,
-                data: d,
-            }
-        }
-
-        fn state_into(&self, out: &mut State) {
-            out.method = $method;
-            self.write_state(&mut out.data);
-        }
-
-        fn take_warning(&mut self) -> Option<String> {
-            self.warning.take()
-        }
-
-        fn can_warn(&self) -> bool {
-            true
-        }
+        $crate::solver::rollback::rollback_items!();
     };
 }
 
@@ -124,56 +103,6 @@ pub use validity::{
 pub(crate) use validity::{
     SINGULAR_RATIO, frame_error, frame_invalid, overflow, singular_error, spin_warning,
 };
-
-/// Global initial coordinates of every node of a free body that comes without a node
-/// deck, derived from its rigid modes (kept for callers; the one definition is
-/// [`Body::rigid_mode_positions`]).
-///
-/// Rigid mode 1 is `X e_1` on the translation rows, mode 4 is `Y e_1` and mode 7 is
-/// `Z e_1` (FORMULATION.md section 1), so the x-translation rows of modes 1, 4 and 7
-/// give each node's local coordinates `(X, Y, Z)`. The frame origin L0 is placed at the
-/// global origin and the frame is `P0`: `x0 = P0 (X, Y, Z)`. A deck, when there is one,
-/// fixes the true placement instead. Returns an empty list for a blocked body (no rigid
-/// modes).
-pub fn coords_from_rigid_modes(body: &Body) -> Vec<[f64; 3]> {
-    body.rigid_mode_positions().unwrap_or_default()
-}
-
-/// What makes a free method's step all-or-nothing: its complete state, written into a
-/// reused buffer before the step and restored from it when the step fails. A library user
-/// calling `Solver::step` directly gets the guarantee the FMU's step guard also gives.
-pub(crate) trait Undo: super::Solver {
-    /// The reused buffer (allocated once, at the solver's construction).
-    fn backup(&mut self) -> &mut super::State;
-    /// Write the complete state into `out` (the layout `set_state` reads).
-    fn save_into(&self, out: &mut Vec<f64>);
-}
-
-/// Run `step` on `s`; when it fails, put back the state from before it (no allocation:
-/// the buffer is taken and returned).
-pub(crate) fn all_or_nothing<S: Undo>(
-    s: &mut S,
-    step: impl FnOnce(&mut S) -> Result<(), SolverError>,
-) -> Result<(), SolverError> {
-    let mut data = std::mem::take(&mut s.backup().data);
-    s.save_into(&mut data);
-    s.backup().data = data;
-    let r = step(s);
-    if r.is_err() {
-        let method = s.method();
-        let saved = std::mem::replace(
-            s.backup(),
-            super::State {
-                method,
-                data: Vec::new(),
-            },
-        );
-        let restored = s.set_state(&saved);
-        *s.backup() = saved;
-        restored?;
-    }
-    r
-}
 
 /// The key of a factorisation that belongs to no step: NaN never compares equal, so
 /// the first comparison with real step sizes asks for a new factorisation. A plain pair
@@ -265,10 +194,12 @@ pub(crate) fn omega_rate_from_frame(p: &Matrix3<f64>, v: &[f64]) -> Vector3<f64>
         - e3 * d1.dot(&d2)
 }
 
-/// The matrices of a free body restricted to a scene, and the kinematic maps shared by
-/// the free-body methods.
+/// A free body as one scene sees it: the body's matrices with the mode rows of the
+/// exposed nodes only, the scene's gravity and damping, and the kinematic maps every
+/// free method shares (coordinates to node outputs, nodal loads to generalised forces,
+/// energies). Each method holds one, as its field `m`.
 #[derive(Debug, Clone)]
-pub(crate) struct Model {
+pub(crate) struct FreeScene {
     /// Number of rigid coordinates (12 or 15).
     pub nr: usize,
     /// Number of local modes.
@@ -315,10 +246,10 @@ pub(crate) struct Model {
     pub mass_scale: f64,
 }
 
-impl Model {
+impl FreeScene {
     /// Check the body and collect what the methods need (`damping_ratio`: the added
     /// modal damping ratio, [`super::damping`]).
-    pub fn new(scene: &Scene, damping_ratio: f64) -> Result<Model, SolverError> {
+    pub fn new(scene: &Scene, damping_ratio: f64) -> Result<FreeScene, SolverError> {
         let body = &scene.body;
         let bad = |why: String| SolverError::Singular(why);
         if body.iblo {
@@ -393,7 +324,7 @@ impl Model {
                 .flat_map(|r| (0..a.ncols()).map(move |c| a[(r, c)]))
                 .collect()
         };
-        Ok(Model {
+        Ok(FreeScene {
             phi_r_rows: row_major(&phi_r),
             phi_l_rows: row_major(&phi_l),
             k_l_rows: row_major(&body.k_l),

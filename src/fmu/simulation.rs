@@ -1,4 +1,4 @@
-//! The running model behind one FMU instance, in safe Rust: parameters, inputs, the
+//! The simulation behind one FMU instance, in safe Rust: parameters, inputs, the
 //! solver, outputs by value reference, and snapshots for FMU state get/set. The C ABI
 //! in [`crate::fmi`] checks the call sequence and converts pointers; this file never
 //! sees a pointer.
@@ -6,13 +6,13 @@
 use std::path::Path;
 
 use super::guard::StepGuard;
-pub use super::model_error::{ModelError, StepRefused, TimeError};
-use super::scene_io::{ResourceError, Resources, load_resources};
+pub use super::simulation_error::{SimulationError, StepRefused, TimeError};
 use super::snapshot::Snapshot;
 pub use super::time::{check_step_times, time_tolerance};
 use super::vars::{Causality, Kind, VarTable, method_name};
 use crate::scene::Scene;
-use crate::solver::{self, Method, Options, Solver};
+use crate::scene::io::{ResourceError, Resources, load_resources};
+use crate::solver::{self, Method, Options, Solver, SolverWarning};
 
 mod outputs;
 mod step;
@@ -27,8 +27,9 @@ pub enum Phase {
     Running,
 }
 
-/// One FMU instance's model.
-pub struct Model {
+/// The simulation one FMU instance runs: what a co-simulation slave holds between the
+/// calls of its master.
+pub struct Simulation {
     /// The variable table (same as the description's).
     pub table: VarTable,
     /// The GUID of the resources this model was read from.
@@ -39,10 +40,8 @@ pub struct Model {
     loads: Vec<f64>,
     rates: Vec<f64>,
     solver: Option<Box<dyn Solver>>,
-    /// The solver can raise warnings ([`Solver::can_warn`]), asked when it is built.
-    solver_warns: bool,
     /// The last step's warning, until taken.
-    warning: Option<String>,
+    warning: Option<SolverWarning>,
     /// Parameters changed since the solver was built.
     dirty: bool,
     /// Loads changed since they were last passed to the solver.
@@ -66,15 +65,15 @@ pub struct Model {
     time: f64,
 }
 
-impl Model {
+impl Simulation {
     /// Read the resources folder and set up a model at its start values.
-    pub fn from_resources(dir: &Path) -> Result<Model, ResourceError> {
+    pub fn from_resources(dir: &Path) -> Result<Simulation, ResourceError> {
         let Resources {
             scene,
             guid,
             options,
         } = load_resources(dir)?;
-        let mut model = Model::new(scene, guid);
+        let mut model = Simulation::new(scene, guid);
         // `pack --method`: the start value the description declares.
         model.table = model.table.with_default_method(options.method);
         model.method = model.table.default_method;
@@ -82,10 +81,10 @@ impl Model {
     }
 
     /// A model for a scene at its start values.
-    pub fn new(scene: Scene, guid: String) -> Model {
+    pub fn new(scene: Scene, guid: String) -> Simulation {
         let table = VarTable::new(&scene);
         let m = scene.nodes.len();
-        Model {
+        Simulation {
             method: table.default_method,
             table,
             guid,
@@ -93,7 +92,6 @@ impl Model {
             loads: vec![0.0; 6 * m],
             rates: vec![0.0; 6 * m],
             solver: None,
-            solver_warns: false,
             warning: None,
             dirty: true,
             loads_dirty: true,
@@ -134,7 +132,7 @@ impl Model {
     }
 
     /// Record the experiment's start and stop time (fmi2SetupExperiment).
-    pub fn setup(&mut self, start: f64, stop: Option<f64>) -> Result<(), ModelError> {
+    pub fn setup(&mut self, start: f64, stop: Option<f64>) -> Result<(), SimulationError> {
         if !start.is_finite() {
             return Err(TimeError::Start(start).into());
         }
@@ -152,25 +150,24 @@ impl Model {
     /// Build the solver if none exists or a parameter changed. Returns a description
     /// of what was built, for the solver log category.
     #[inline]
-    pub fn ensure_solver(&mut self) -> Result<Option<String>, ModelError> {
+    pub fn ensure_solver(&mut self) -> Result<Option<String>, SimulationError> {
         if self.solver.is_some() && !self.dirty {
             return Ok(None);
         }
         self.build_solver()
     }
 
-    /// The build behind [`Model::ensure_solver`], out of the step's way.
+    /// The build behind [`Simulation::ensure_solver`], out of the step's way.
     #[cold]
     #[inline(never)]
-    fn build_solver(&mut self) -> Result<Option<String>, ModelError> {
+    fn build_solver(&mut self) -> Result<Option<String>, SimulationError> {
         let s = solver::build(&self.scene, self.method, &self.opts).map_err(|source| {
-            ModelError::Build {
+            SimulationError::Build {
                 method: method_name(self.method),
                 source,
             }
         })?;
-        self.solver_warns = s.can_warn();
-        self.guard.adopt(s.as_ref(), &self.scene, &self.opts);
+        self.guard.adopt(&self.scene, &self.opts);
         self.solver = Some(s);
         self.dirty = false;
         self.loads_dirty = true;
@@ -186,29 +183,29 @@ impl Model {
     }
 
     #[inline]
-    fn var(&self, vr: u32) -> Result<&super::vars::Variable, ModelError> {
+    fn var(&self, vr: u32) -> Result<&super::vars::Variable, SimulationError> {
         match self.table.get(vr) {
             Some(var) => Ok(var),
-            None => Err(ModelError::UnknownReference {
+            None => Err(SimulationError::UnknownReference {
                 vr,
                 count: self.table.vars.len(),
             }),
         }
     }
 
-    /// Whether [`Model::set_real`] would accept `v` for `vr`, without changing anything.
-    pub fn check_real(&self, vr: u32, v: f64, phase: Phase) -> Result<(), ModelError> {
+    /// Whether [`Simulation::set_real`] would accept `v` for `vr`, without changing anything.
+    pub fn check_real(&self, vr: u32, v: f64, phase: Phase) -> Result<(), SimulationError> {
         self.checked_real(vr, v, phase).map(|_| ())
     }
 
-    /// [`Model::check_real`], giving the variable's binding for [`Model::apply_real`] so
+    /// [`Simulation::check_real`], giving the variable's binding for [`Simulation::apply_real`] so
     /// that the table is read once per value.
     #[inline(always)]
-    fn checked_real(&self, vr: u32, v: f64, phase: Phase) -> Result<Kind, ModelError> {
+    fn checked_real(&self, vr: u32, v: f64, phase: Phase) -> Result<Kind, SimulationError> {
         // No clone of the variable: this runs on every fmi2SetReal and must not allocate.
         let var = self.var(vr)?;
         if var.is_integer() {
-            return Err(ModelError::WrongType {
+            return Err(SimulationError::WrongType {
                 name: var.name.clone(),
                 vr,
                 is: "an Integer",
@@ -217,16 +214,16 @@ impl Model {
         }
         check_settable(var, phase)?;
         if !v.is_finite() {
-            return Err(ModelError::NonFinite {
+            return Err(SimulationError::NonFinite {
                 name: var.name.clone(),
                 value: v,
             });
         }
         if var.kind == Kind::RhoInf && !(0.0..=1.0).contains(&v) {
-            return Err(ModelError::RhoInf(v));
+            return Err(SimulationError::RhoInf(v));
         }
         if var.kind == Kind::DampingRatio && v < 0.0 {
-            return Err(ModelError::DampingRatio(v));
+            return Err(SimulationError::DampingRatio(v));
         }
         Ok(var.kind)
     }
@@ -234,7 +231,12 @@ impl Model {
     /// Set Real variables: all or none (a refused value leaves every variable as it
     /// was, so a master's error does not half-apply a set of loads).
     #[inline]
-    pub fn set_reals(&mut self, vrs: &[u32], vals: &[f64], phase: Phase) -> Result<(), ModelError> {
+    pub fn set_reals(
+        &mut self,
+        vrs: &[u32],
+        vals: &[f64],
+        phase: Phase,
+    ) -> Result<(), SimulationError> {
         // One value (a master setting one input): all or none holds already.
         if let ([r], [v]) = (vrs, vals) {
             return self.set_real(*r, *v, phase);
@@ -242,9 +244,14 @@ impl Model {
         self.set_several(vrs, vals, phase)
     }
 
-    /// [`Model::set_reals`] for any number of values: all checked, then all stored.
+    /// [`Simulation::set_reals`] for any number of values: all checked, then all stored.
     #[inline(never)]
-    fn set_several(&mut self, vrs: &[u32], vals: &[f64], phase: Phase) -> Result<(), ModelError> {
+    fn set_several(
+        &mut self,
+        vrs: &[u32],
+        vals: &[f64],
+        phase: Phase,
+    ) -> Result<(), SimulationError> {
         for (&r, &v) in vrs.iter().zip(vals) {
             self.check_real(r, v, phase)?;
         }
@@ -259,13 +266,13 @@ impl Model {
 
     /// Set a Real variable.
     #[inline]
-    pub fn set_real(&mut self, vr: u32, v: f64, phase: Phase) -> Result<(), ModelError> {
+    pub fn set_real(&mut self, vr: u32, v: f64, phase: Phase) -> Result<(), SimulationError> {
         let kind = self.checked_real(vr, v, phase)?;
         self.apply_real(kind, v);
         Ok(())
     }
 
-    /// Store `v` in the Real variable bound to `kind`, which [`Model::check_real`]
+    /// Store `v` in the Real variable bound to `kind`, which [`Simulation::check_real`]
     /// accepted.
     #[inline(always)]
     fn apply_real(&mut self, kind: Kind, v: f64) {
@@ -307,8 +314,8 @@ impl Model {
     }
 
     /// The common fmi2SetReal in a step loop: `vr` is a load (an input, settable in
-    /// every phase) and `v` finite, stored as [`Model::set_real`] would. `false`, with
-    /// nothing changed, for anything else, which then takes [`Model::set_reals`] and its
+    /// every phase) and `v` finite, stored as [`Simulation::set_real`] would. `false`, with
+    /// nothing changed, for anything else, which then takes [`Simulation::set_reals`] and its
     /// messages.
     #[inline(always)]
     pub fn set_load(&mut self, vr: u32, v: f64) -> bool {
@@ -324,13 +331,13 @@ impl Model {
         finite
     }
 
-    /// Set Integer variables: all or none, like [`Model::set_reals`].
+    /// Set Integer variables: all or none, like [`Simulation::set_reals`].
     pub fn set_integers(
         &mut self,
         vrs: &[u32],
         vals: &[i32],
         phase: Phase,
-    ) -> Result<(), ModelError> {
+    ) -> Result<(), SimulationError> {
         let (method, dirty) = (self.method, self.dirty);
         for (&r, &v) in vrs.iter().zip(vals) {
             if let Err(e) = self.set_integer(r, v, phase) {
@@ -342,10 +349,10 @@ impl Model {
     }
 
     /// Set the Integer variable `method`.
-    pub fn set_integer(&mut self, vr: u32, v: i32, phase: Phase) -> Result<(), ModelError> {
+    pub fn set_integer(&mut self, vr: u32, v: i32, phase: Phase) -> Result<(), SimulationError> {
         let var = self.var(vr)?;
         if !var.is_integer() {
-            return Err(ModelError::WrongType {
+            return Err(SimulationError::WrongType {
                 name: var.name.clone(),
                 vr,
                 is: "a Real",
@@ -360,7 +367,7 @@ impl Model {
                 .iter()
                 .map(|&m| format!("{}={}", method_name(m), m as i32))
                 .collect();
-            ModelError::MethodNotOffered {
+            SimulationError::MethodNotOffered {
                 value: v,
                 why,
                 offered: offered.join(", "),
@@ -374,10 +381,10 @@ impl Model {
     }
 
     /// Get the Integer `method`.
-    pub fn get_integer(&self, vr: u32) -> Result<i32, ModelError> {
+    pub fn get_integer(&self, vr: u32) -> Result<i32, SimulationError> {
         let var = self.var(vr)?;
         if !var.is_integer() {
-            return Err(ModelError::WrongType {
+            return Err(SimulationError::WrongType {
                 name: var.name.clone(),
                 vr,
                 is: "a Real",
@@ -387,13 +394,13 @@ impl Model {
         Ok(self.method as i32)
     }
 
-    /// Set input derivatives: all or none, like [`Model::set_reals`].
+    /// Set input derivatives: all or none, like [`Simulation::set_reals`].
     pub fn set_input_rates(
         &mut self,
         vrs: &[u32],
         orders: &[i32],
         vals: &[f64],
-    ) -> Result<(), ModelError> {
+    ) -> Result<(), SimulationError> {
         for pass in 0..2 {
             for ((&r, &o), &v) in vrs.iter().zip(orders).zip(vals) {
                 let slot = self.input_rate_slot(r, o, v)?;
@@ -407,19 +414,19 @@ impl Model {
     }
 
     /// Where the input rate for `vr` goes, if `order` and `v` are acceptable.
-    fn input_rate_slot(&self, vr: u32, order: i32, v: f64) -> Result<usize, ModelError> {
+    fn input_rate_slot(&self, vr: u32, order: i32, v: f64) -> Result<usize, SimulationError> {
         let var = self.var(vr)?;
         let Kind::Load { node, comp } = var.kind else {
-            return Err(ModelError::NotAnInput(var.name.clone()));
+            return Err(SimulationError::NotAnInput(var.name.clone()));
         };
         if order != 1 {
-            return Err(ModelError::InputOrder {
+            return Err(SimulationError::InputOrder {
                 name: var.name.clone(),
                 order,
             });
         }
         if !v.is_finite() {
-            return Err(ModelError::NonFiniteRate {
+            return Err(SimulationError::NonFiniteRate {
                 name: var.name.clone(),
                 value: v,
             });
@@ -429,7 +436,7 @@ impl Model {
 
     /// Set the time derivative of order 1 of an input (fmi2SetRealInputDerivatives).
     /// It applies to the next step only: each doStep clears the rates.
-    pub fn set_input_rate(&mut self, vr: u32, order: i32, v: f64) -> Result<(), ModelError> {
+    pub fn set_input_rate(&mut self, vr: u32, order: i32, v: f64) -> Result<(), SimulationError> {
         let slot = self.input_rate_slot(vr, order, v)?;
         self.rates[slot] = v;
         self.rates_written = true;
@@ -446,7 +453,7 @@ impl Model {
             s
         };
         let guid = std::mem::take(&mut self.guid);
-        *self = Model::new(scene, guid);
+        *self = Simulation::new(scene, guid);
     }
 
     /// A snapshot of everything that defines the future (FMU state).
@@ -475,7 +482,7 @@ impl Model {
     /// Restore a snapshot taken from a model of the same scene: all or nothing. A
     /// snapshot with non-finite or out-of-range values is refused before anything
     /// changes; one the solver refuses (wrong size) leaves the model as it was.
-    pub fn restore(&mut self, snap: &Snapshot) -> Result<(), ModelError> {
+    pub fn restore(&mut self, snap: &Snapshot) -> Result<(), SimulationError> {
         snap.check()?;
         let backup = self.snapshot(0);
         self.restore_unchecked(snap).inspect_err(|_| {
@@ -485,11 +492,11 @@ impl Model {
         })
     }
 
-    fn restore_unchecked(&mut self, snap: &Snapshot) -> Result<(), ModelError> {
+    fn restore_unchecked(&mut self, snap: &Snapshot) -> Result<(), SimulationError> {
         // The solver's state changes below: the guard saves it again before the next step.
         self.guard.forget();
         if snap.loads.len() != self.loads.len() || snap.rates.len() != self.rates.len() {
-            return Err(ModelError::StateLoads {
+            return Err(SimulationError::StateLoads {
                 held: snap.loads.len(),
                 have: self.loads.len(),
             });
@@ -497,7 +504,7 @@ impl Model {
         let method = self
             .table
             .method_for(snap.method)
-            .map_err(|_| ModelError::StateMethod(snap.method))?;
+            .map_err(|_| SimulationError::StateMethod(snap.method))?;
         let params_differ = method != self.method
             || snap.rho_inf != self.opts.rho_inf
             || snap.damping_ratio != self.opts.damping_ratio
@@ -540,10 +547,12 @@ impl Model {
 
 /// Whether `var` may be set in `phase`: never an output, parameters only before the end
 /// of initialisation.
-fn check_settable(var: &super::vars::Variable, phase: Phase) -> Result<(), ModelError> {
+fn check_settable(var: &super::vars::Variable, phase: Phase) -> Result<(), SimulationError> {
     match (var.causality, phase) {
-        (Causality::Output, _) => Err(ModelError::Output(var.name.clone())),
-        (Causality::Parameter, Phase::Running) => Err(ModelError::FixedParameter(var.name.clone())),
+        (Causality::Output, _) => Err(SimulationError::Output(var.name.clone())),
+        (Causality::Parameter, Phase::Running) => {
+            Err(SimulationError::FixedParameter(var.name.clone()))
+        }
         _ => Ok(()),
     }
 }

@@ -1,4 +1,4 @@
-//! Why the running model ([`super::model::Model`]) refuses a call: a set or get it cannot
+//! Why the running model ([`super::simulation::Simulation`]) refuses a call: a set or get it cannot
 //! honour, a time argument, a solver that cannot be built, a refused step (with the
 //! outcome of putting the state back), a saved state that does not fit. The FMI layer
 //! logs each as `"{function}: {error}"`.
@@ -74,7 +74,7 @@ pub struct StepRefused {
 /// Why the model refused a call (set, get, step, state restore). The FMI layer logs it
 /// as `"{function}: {error}"` and returns fmi2Error; nothing changed in the model.
 #[derive(Debug, thiserror::Error)]
-pub enum ModelError {
+pub enum SimulationError {
     /// A value reference this FMU does not have.
     #[error("unknown value reference {vr} (this FMU has 0..{count})")]
     UnknownReference {
@@ -202,7 +202,7 @@ mod tests {
     #[test]
     fn a_refused_step_says_what_and_whether_the_state_was_put_back() {
         let cause = SolverError::Invalid("frame no longer a rotation".into());
-        let kept = ModelError::StepRefused(Box::new(StepRefused {
+        let kept = SimulationError::StepRefused(Box::new(StepRefused {
             t: 0.5,
             h: 1e-3,
             cause: cause.clone(),
@@ -216,7 +216,7 @@ mod tests {
                  the FMU keeps its state at t = 0.5"
             )
         );
-        let lost = ModelError::StepRefused(Box::new(StepRefused {
+        let lost = SimulationError::StepRefused(Box::new(StepRefused {
             t: 0.5,
             h: 1e-3,
             cause: cause.clone(),
@@ -241,7 +241,7 @@ mod tests {
             stop: 2.0,
         };
         assert_eq!(e.to_string(), "the step to 1e300 goes past stopTime 2");
-        let e = ModelError::from(TimeError::StepSize(-0.25));
+        let e = SimulationError::from(TimeError::StepSize(-0.25));
         assert_eq!(
             e.to_string(),
             "communicationStepSize must be finite and > 0, got -0.25"

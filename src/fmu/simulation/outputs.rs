@@ -2,14 +2,14 @@
 //! what is asked for, into buffers sized at instantiation: no allocation) and output
 //! derivatives.
 
-use super::{Model, ModelError};
+use super::{Simulation, SimulationError};
 use crate::fmu::vars::Kind;
 
-impl Model {
+impl Simulation {
     /// Get Real values for `vrs` into `out` (same length). Needs a solver. Inlined into
     /// fmi2GetReal, its one caller on the step path.
     #[inline]
-    pub fn get_reals(&mut self, vrs: &[u32], out: &mut [f64]) -> Result<(), ModelError> {
+    pub fn get_reals(&mut self, vrs: &[u32], out: &mut [f64]) -> Result<(), SimulationError> {
         self.ensure_solver()?;
         // A truncated scene's positions depend on the same-instant loads (residual
         // flexibility): pass changed loads before reading.
@@ -22,7 +22,7 @@ impl Model {
             self.loads_dirty = false;
         }
         let Some(s) = self.solver.as_ref() else {
-            return Err(ModelError::NoSolver);
+            return Err(SimulationError::NoSolver);
         };
         // Only what is asked for: a master polling one position pays for that position
         // (one row) when the method can give it alone, otherwise for the positions only;
@@ -31,14 +31,14 @@ impl Model {
         let (mut all_rot, mut all_omega) = (false, false);
         for (&vr, o) in vrs.iter().zip(out.iter_mut()) {
             let Some(var) = self.table.get(vr) else {
-                return Err(ModelError::UnknownReference {
+                return Err(SimulationError::UnknownReference {
                     vr,
                     count: self.table.vars.len(),
                 });
             };
             *o = match var.kind {
                 Kind::Method => {
-                    return Err(ModelError::WrongType {
+                    return Err(SimulationError::WrongType {
                         name: var.name.clone(),
                         vr,
                         is: "an Integer",
@@ -93,7 +93,7 @@ impl Model {
 
     /// The common fmi2GetReal in a step loop: `vr` is a position that the solver, built
     /// and current, gives alone ([`crate::solver::Solver::position`]), with no loads to
-    /// pass first; the same bits as [`Model::get_reals`]. `None` for anything else, which
+    /// pass first; the same bits as [`Simulation::get_reals`]. `None` for anything else, which
     /// then takes `get_reals` and its messages.
     #[inline(always)]
     pub fn get_position(&self, vr: u32) -> Option<f64> {
@@ -112,11 +112,11 @@ impl Model {
     /// angular velocities and accelerations, angular velocities give angular
     /// accelerations. A free body's rotation vector is not the integral of its angular
     /// velocity, and its methods have no exact angular acceleration: refused.
-    pub fn get_output_derivative(&mut self, vr: u32, order: i32) -> Result<f64, ModelError> {
+    pub fn get_output_derivative(&mut self, vr: u32, order: i32) -> Result<f64, SimulationError> {
         let var = self.var(vr)?;
         let (kind, name) = (var.kind, &var.name);
         let Some(s) = self.solver.as_ref() else {
-            return Err(ModelError::NoSolver);
+            return Err(SimulationError::NoSolver);
         };
         match (kind, order) {
             (Kind::Position { node, comp }, 1) => {
@@ -137,13 +137,13 @@ impl Model {
                 if s.rotation_accelerations(&mut self.acc) {
                     Ok(self.acc[3 * node + comp])
                 } else {
-                    Err(ModelError::NoOutputDerivative {
+                    Err(SimulationError::NoOutputDerivative {
                         name: self.table.vars[vr as usize].name.clone(),
                         order,
                     })
                 }
             }
-            _ => Err(ModelError::NoOutputDerivative {
+            _ => Err(SimulationError::NoOutputDerivative {
                 name: name.clone(),
                 order,
             }),

@@ -26,6 +26,7 @@ pub mod implicit;
 pub mod loads;
 pub mod nodes;
 pub mod residual;
+pub(crate) mod rollback;
 
 pub use exact::Exact;
 pub use explicit::Explicit;
@@ -177,9 +178,9 @@ pub struct State {
 }
 
 /// What one step can do to a solver's state, bounded before it is taken
-/// ([`Solver::growth`]): with `m` the [`Solver::measure`] before the step and every load
-/// at most `cap` in magnitude (held, no rate on), the measure after it is at most
-/// `state m + load cap`, and every number of the state besides the time and the held
+/// ([`BoundedStep::growth`]): with `m` the [`BoundedStep::measure`] before the step and
+/// every load at most `cap` in magnitude (held, no rate on), the measure after it is at
+/// most `state m + load cap`, and every number of the state besides the time and the held
 /// loads is at most `scale` times the measure. Rounding is included. The same for every
 /// step of the same size on the same solver.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -201,23 +202,74 @@ pub struct Frame {
     pub p: [f64; 9],
 }
 
+/// What a completed step has to say about the model's validity: the step was taken and
+/// its numbers are finite, but the body has gone where the model's results may be wrong.
+/// Raised once per solver; the FMU passes it on as fmi2Warning.
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+pub enum SolverWarning {
+    /// A free body spins at more than [`free::SPIN_WARN_RATIO`] of its first local
+    /// mode's circular frequency: the model has no centrifugal stiffening or spin
+    /// softening.
+    #[error(
+        "the body spins at {} rad/s, {} times the first local mode's circular frequency {} \
+         rad/s (warning from {} times): the model has no centrifugal stiffening or spin \
+         softening, so its deformation is no longer valid at this spin rate; results may \
+         be wrong. Reduce the spin rate, or use a body whose modes were computed for it \
+         (stiffer, or pre-stressed). Warned once per instance",
+        crate::num::num(*spin), crate::num::num(*spin / *omega1), crate::num::num(*omega1),
+        crate::num::num(free::SPIN_WARN_RATIO)
+    )]
+    SpinRate {
+        /// The frame's spin rate `|omega|` (rad/s).
+        spin: f64,
+        /// The first local mode's circular frequency (rad/s).
+        omega1: f64,
+    },
+}
+
 /// A time integrator over one scene.
 ///
 /// Loads are per exposed node, six values each (fx fy fz mx my mz, global frame), held
 /// over a step, or varying linearly when rates are given. Outputs are per exposed node,
 /// three values each. `step` never allocates.
+///
+/// # All or nothing
+///
+/// [`Solver::step`] either takes the whole step or none of it: when it returns an error
+/// the state ([`Solver::state`], and with it every output) is bit for bit what it was
+/// before the call, and the solver can go on (with a shorter step, smaller loads, or
+/// from a saved state). After a [`Solver::checkpoint`] the step it refuses goes back to
+/// the checkpoint instead, loads and rates set since then included. The free methods
+/// also refuse a step that would leave a non-finite number in their state (their frame
+/// and iterations need finite numbers to go on); a blocked method's step is a fixed
+/// linear map of a finite state and the loads, which completes whatever the numbers: a
+/// caller that wants every output finite checks them, as the FMU does
+/// (`crate::fmu::guard`), and rewinds a step it refuses.
 pub trait Solver: Send {
     /// The method this solver runs.
     fn method(&self) -> Method;
     /// Simulated time since the start.
     fn time(&self) -> f64;
-    /// Set the loads at the current time (6 per exposed node).
+    /// Set the loads at the current time (6 per exposed node). All or nothing: refused
+    /// loads (a wrong count, a non-finite value) change nothing.
     fn set_loads(&mut self, loads: &[f64]) -> Result<(), SolverError>;
     /// Set load rates (6 per exposed node, per second): over the next steps the load is
     /// `loads + rate (t - t_set)`. Rates persist until set again; zeros mean held loads.
+    /// All or nothing, like [`Solver::set_loads`].
     fn set_load_rates(&mut self, rates: &[f64]) -> Result<(), SolverError>;
-    /// Advance by `h > 0`.
-    fn step(&mut self, h: f64) -> Result<(), SolverError>;
+    /// Advance by `h > 0`, all or nothing (see the trait notes). `Ok(Some(warning))` is
+    /// a step taken whose result the model may no longer answer for
+    /// ([`SolverWarning`]).
+    fn step(&mut self, h: f64) -> Result<Option<SolverWarning>, SolverError>;
+    /// Save the complete state as the one a refused step and [`Solver::rewind`] go back
+    /// to, for the one step after it. A caller that sets a step's loads and may refuse
+    /// the step once it ran takes it before setting them, so that the refusal takes the
+    /// loads back too. No allocation once the solver has saved one state.
+    fn checkpoint(&mut self);
+    /// Go back to the state of the last [`Solver::checkpoint`], after the step that
+    /// followed it (accepted or refused); an error, and no change, when no checkpoint
+    /// was taken before that step or a state was set since.
+    fn rewind(&mut self) -> Result<(), SolverError>;
     /// Global positions of the exposed nodes (3 per node).
     fn positions(&self, out: &mut [f64]);
     /// Position value `k` alone (node `k / 3`, component `k % 3`), bit for bit the entry
@@ -264,37 +316,26 @@ pub trait Solver: Send {
     fn state(&self) -> State;
     /// Restore a state saved by a solver built from the same scene and method.
     fn set_state(&mut self, state: &State) -> Result<(), SolverError>;
-    /// Save the complete state into `out`, reusing its storage: the per-step rollback
-    /// buffer of the FMU model, so it must not allocate once `out` has held a state of
-    /// this solver. The default allocates; every method overrides it.
-    fn state_into(&self, out: &mut State) {
-        *out = self.state();
+    /// The method's bound on a step before it is taken, where it has one (the exact
+    /// method); `None` for every other.
+    fn bounded(&mut self) -> Option<&mut dyn BoundedStep> {
+        None
     }
+}
+
+/// A method whose step can be bounded before it is taken: only the exact method, whose
+/// step is a fixed linear map per mode. The FMU's step guard uses it to know, before a
+/// step under held loads, that the step cannot make any state entry or output
+/// non-finite, and then neither saves the state nor checks the outputs.
+pub trait BoundedStep: Solver {
     /// How far a step of `h` under held loads (no rate on) can carry
-    /// [`Solver::measure`], known before the step: the FMU's step guard then knows that
-    /// the step cannot overflow without saving the state or reading the result. Where a
-    /// method gives it, it also holds the coefficients of that step, so that the step
-    /// cannot fail, and keeps them until a step of another size. `None` (the default)
-    /// where the method has no such bound: the guard saves the state and checks the
-    /// result.
-    fn growth(&mut self, _h: f64) -> Option<Growth> {
-        None
-    }
-    /// The norm [`Solver::growth`] bounds (for the exact method the energy norm of the
-    /// modal state), rounded up; infinite where the method has none.
-    fn measure(&self) -> f64 {
-        f64::INFINITY
-    }
-    /// A warning the last step raised (for example a spin rate approaching the first
-    /// local mode's frequency), taken once: the FMU returns fmi2Warning with it.
-    fn take_warning(&mut self) -> Option<String> {
-        None
-    }
-    /// Whether [`Solver::take_warning`] can ever return one: asked once per solver, so
-    /// that a method that never warns costs its caller no call per step.
-    fn can_warn(&self) -> bool {
-        false
-    }
+    /// [`BoundedStep::measure`], known before the step. It also holds the coefficients
+    /// of that step, so that the step cannot fail, and keeps them until a step of
+    /// another size. `None` where the step of `h` cannot be taken at all.
+    fn growth(&mut self, h: f64) -> Option<Growth>;
+    /// The norm [`BoundedStep::growth`] bounds (for the exact method the energy norm of
+    /// the modal state), rounded up.
+    fn measure(&self) -> f64;
 }
 
 /// Build a solver for a scene with the chosen method.

@@ -4,9 +4,10 @@
 //! A packed scene is its body restricted to the exposed nodes ([`select_nodes`]: their
 //! rows of the rigid and local modes, every mode-space matrix whole), the modes kept by
 //! `--fmax` with their residual flexibility, the exposed nodes' coordinates, and the
-//! modes of (K_L, m_L) as the body already solved them ([`Modal`](crate::body::Modal)), so that the FMU
-//! neither parses the `.fxb` text nor solves an eigenproblem, and runs bit for bit what a
-//! scene built from the `.fxb` file runs. docs/SCENE_FORMAT.md describes every byte:
+//! modes of (K_L, m_L) as the body already solved them ([`crate::body::Modal`]), so
+//! that the FMU neither parses the `.fxb` text nor solves an eigenproblem, and runs bit
+//! for bit what a scene built from the `.fxb` file runs. docs/SCENE_FORMAT.md describes
+//! every byte:
 //! a 32-byte header (magic, byte-order mark, version, payload length, checksum), then
 //! eleven sections in a fixed order, each a 16-byte header (tag, length) and its data,
 //! all little-endian, all 8-byte words. Every refusal names the file and what was
@@ -14,10 +15,10 @@
 
 use nalgebra::DMatrix;
 
-use super::hash::fnv1a64_words;
 use crate::body::Body;
-use crate::reduce::select_nodes;
+use crate::fmu::hash::fnv1a64_words;
 use crate::scene::Scene;
+use crate::scene::reduce::select_nodes;
 
 /// The first eight bytes of every scene file.
 pub const MAGIC: [u8; 8] = *b"FXBSCENE";

@@ -7,13 +7,13 @@ use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use super::hash::content_guid;
-use super::options::{OptionsError, SceneOptions};
-use super::scenefile;
+use super::file as scenefile;
 use crate::body::Body;
+use crate::fmu::hash::content_guid;
+use crate::fmu::options::{OptionsError, SceneOptions};
 use crate::fxb;
-use crate::reduce::ReduceError;
 use crate::scene::Scene;
+use crate::scene::reduce::ReduceError;
 
 /// Why the exposed nodes do not make a scene (shared by `pack` and the FMU).
 #[derive(Debug, thiserror::Error)]

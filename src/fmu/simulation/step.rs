@@ -1,27 +1,27 @@
 //! The step path of the model: one communication step (fmi2DoStep) under the step
 //! guard, and the refusal that puts the state from before the step back.
 
-use super::{Model, ModelError, StepRefused, check_step_times};
+use super::{Simulation, SimulationError, StepRefused, check_step_times};
 use crate::fmu::guard::{any_nonzero, largest_input};
-use crate::solver::{Solver, SolverError};
+use crate::solver::{Solver, SolverError, SolverWarning};
 
-impl Model {
+impl Simulation {
     /// One communication step from `t` to `t + h`. `Ok(Some(text))` is a completed step
     /// with a warning for the master (fmi2Warning).
-    pub fn do_step(&mut self, t: f64, h: f64) -> Result<Option<String>, ModelError> {
+    pub fn do_step(&mut self, t: f64, h: f64) -> Result<Option<String>, SimulationError> {
         let warned = self.step(t, h)?;
-        Ok(if warned { self.warning.take() } else { None })
+        Ok(if warned { self.take_warning() } else { None })
     }
 
-    /// [`Model::do_step`] without moving the warning: `Ok(true)` is a completed step with
-    /// a warning, which [`Model::take_warning`] gives. Inlined into fmi2DoStep, its one
+    /// [`Simulation::do_step`] without moving the warning: `Ok(true)` is a completed step with
+    /// a warning, which [`Simulation::take_warning`] gives. Inlined into fmi2DoStep, its one
     /// caller on the step path; refusing is out of line.
     #[inline(always)]
-    pub fn step(&mut self, t: f64, h: f64) -> Result<bool, ModelError> {
+    pub fn step(&mut self, t: f64, h: f64) -> Result<bool, SimulationError> {
         check_step_times(t, h, self.time, self.start_time, self.stop_time)?;
         self.ensure_solver()?;
         let Some(s) = self.solver.as_mut() else {
-            return Err(ModelError::NoSolver);
+            return Err(SimulationError::NoSolver);
         };
         // Either the step is bounded in advance and cannot make anything non-finite, or
         // the state before it is saved, to be put back if the step fails or leaves a
@@ -39,16 +39,12 @@ impl Model {
             rates_on || self.rates_applied,
         );
         // Refusals are out of line: the step path builds no message.
-        if let Err(e) = stepped {
-            return Err(self.refuse_failed(t, h, e));
-        }
+        let warning = match stepped {
+            Ok(w) => w,
+            Err(e) => return Err(self.refuse_failed(t, h, e)),
+        };
         if !self.guard.accept_bounded()
-            && let Some(what) = self.guard.check(
-                s.as_ref(),
-                &self.table,
-                (&self.loads, &self.rates, rates_on),
-                h,
-            )
+            && let Some(what) = self.guard.check(s.as_ref(), &self.table)
         {
             return Err(self.refuse_non_finite(t, h, what));
         }
@@ -59,34 +55,36 @@ impl Model {
         }
         // Zero now, whether cleared here or all zero already.
         self.rates_written = false;
-        let warned = self.solver_warns && {
-            self.warning = s.take_warning();
-            self.warning.is_some()
-        };
+        let warned = warning.is_some();
+        if warned {
+            self.warning = warning;
+        }
         // Adopt the master's time so that round-off does not accumulate against it.
         self.time = t + h;
         Ok(warned)
     }
 
-    /// The warning of the last step that returned `Ok(true)` from [`Model::step`].
+    /// The warning of the last step that returned `Ok(true)` from [`Simulation::step`].
     pub fn take_warning(&mut self) -> Option<String> {
-        self.warning.take()
+        self.warning.take().map(|w| w.to_string())
     }
 
     /// A step the solver refused (frame no longer a rotation, budget, singular system):
     /// under a load, that load is named too, being the usual cause.
     #[cold]
     #[inline(never)]
-    fn refuse_failed(&mut self, t: f64, h: f64, e: SolverError) -> ModelError {
+    fn refuse_failed(&mut self, t: f64, h: f64, e: SolverError) -> SimulationError {
         let loaded = self.loads.iter().chain(&self.rates).any(|&x| x != 0.0);
         let largest = loaded.then(|| largest_input(&self.table, &self.loads, &self.rates));
-        self.refuse(t, h, e, largest)
+        // The solver's step is all or nothing: its state is as before the step.
+        self.guard.forget();
+        self.refuse(t, h, e, largest, Ok(()))
     }
 
     /// A step the guard refused: `what` would have become non-finite.
     #[cold]
     #[inline(never)]
-    fn refuse_non_finite(&mut self, t: f64, h: f64, what: String) -> ModelError {
+    fn refuse_non_finite(&mut self, t: f64, h: f64, what: String) -> SimulationError {
         let cause = SolverError::NonFinite {
             what,
             cause: format!(
@@ -94,10 +92,14 @@ impl Model {
                 largest_input(&self.table, &self.loads, &self.rates)
             ),
         };
-        self.refuse(t, h, cause, None)
+        let restored = match self.solver.as_mut() {
+            Some(s) => self.guard.rollback(s.as_mut()),
+            None => Ok(()),
+        };
+        self.refuse(t, h, cause, None, restored)
     }
 
-    /// Put the state from before a refused step back and say why it was refused.
+    /// Say why a step was refused (`restored`: whether the state from before it is back).
     #[cold]
     #[inline(never)]
     fn refuse(
@@ -106,15 +108,12 @@ impl Model {
         h: f64,
         cause: SolverError,
         largest_input: Option<String>,
-    ) -> ModelError {
-        let restored = match self.solver.as_mut() {
-            Some(s) => self.guard.rollback(s.as_mut()),
-            None => Ok(()),
-        };
+        restored: Result<(), SolverError>,
+    ) -> SimulationError {
         // The solver gets the loads and rates again at the next step.
         self.loads_dirty = true;
         self.rates_applied = true;
-        ModelError::StepRefused(Box::new(StepRefused {
+        SimulationError::StepRefused(Box::new(StepRefused {
             t,
             h,
             cause,
@@ -135,7 +134,7 @@ fn step_solver(
     rates: &[f64],
     pass_loads: bool,
     pass_rates: bool,
-) -> Result<(), SolverError> {
+) -> Result<Option<SolverWarning>, SolverError> {
     if pass_loads {
         s.set_loads(loads)?;
     }
