@@ -40,6 +40,7 @@ pub mod sparse;
 pub mod support;
 pub mod tridiag;
 pub mod units;
+pub mod whole;
 
 pub use report::Report;
 pub use units::Units;
@@ -109,6 +110,9 @@ pub enum ImportError {
          FE code (Craig-Bampton or Guyan) and import the reduced matrices"
     )]
     TooLarge(usize),
+    /// The whole-model route (sparse reduction) failed: the cause, named.
+    #[error("{0}")]
+    Whole(String),
     /// Nothing to build from.
     #[error("the matrices hold no DOF with stiffness or mass")]
     Empty,
@@ -263,14 +267,14 @@ pub struct Imported {
 
 /// Wall time of the import's stages, printed to stderr when the environment variable
 /// `FXBODY_IMPORT_TIMES` is set (to profile a large import; off by default).
-struct Stages {
+pub(crate) struct Stages {
     start: Option<std::time::Instant>,
     last: f64,
     lines: Vec<String>,
 }
 
 impl Stages {
-    fn new() -> Stages {
+    pub(crate) fn new() -> Stages {
         let on = std::env::var_os("FXBODY_IMPORT_TIMES").is_some();
         Stages {
             start: on.then(std::time::Instant::now),
@@ -280,7 +284,7 @@ impl Stages {
     }
 
     /// The stage `name` ended now.
-    fn done(&mut self, name: &str) {
+    pub(crate) fn done(&mut self, name: &str) {
         if let Some(t) = self.start {
             let now = t.elapsed().as_secs_f64();
             self.lines
@@ -301,15 +305,8 @@ impl Drop for Stages {
     }
 }
 
-/// Build a body from K and M (see the module text). `coords_file` names the coordinates'
-/// file in messages.
-pub fn build(
-    k: &SymMatrix,
-    m: &SymMatrix,
-    coords: Option<&BTreeMap<i64, [f64; 3]>>,
-    coords_file: &str,
-    opts: &Options,
-) -> Result<Imported, ImportError> {
+/// The option values `build` and the whole-model route refuse before any work.
+pub(crate) fn check_options(opts: &Options) -> Result<(), ImportError> {
     if let Some(f) = opts.fmax
         && !(f.is_finite() && f > 0.0)
     {
@@ -327,6 +324,19 @@ pub fn build(
             num(b)
         )));
     }
+    Ok(())
+}
+
+/// Build a body from K and M (see the module text). `coords_file` names the coordinates'
+/// file in messages.
+pub fn build(
+    k: &SymMatrix,
+    m: &SymMatrix,
+    coords: Option<&BTreeMap<i64, [f64; 3]>>,
+    coords_file: &str,
+    opts: &Options,
+) -> Result<Imported, ImportError> {
+    check_options(opts)?;
     let mut report = Report::default();
     let mut stages = Stages::new();
     let mut model = dofs::Model::from_matrices(k, m)?;
