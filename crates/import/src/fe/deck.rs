@@ -330,7 +330,7 @@ mod tests {
             (s.nset.as_str(), s.reference, s.rotation),
             ("HOLE", 100, 101)
         );
-        assert!(s.at.ends_with("mesh.inp:13"), "{}", s.at);
+        assert!(s.at.ends_with("mesh.inp:14"), "{}", s.at);
 
         let bad = write(&dir, "bad.inp", "*RIGID BODY, NSET=HOLE, REF NODE=4\n");
         let e = read_deck(&bad).unwrap_err().to_string();
