@@ -1,0 +1,185 @@
+"""`fxbody import JOB.inp --fmax F`: a whole CalculiX model (the L-bracket of
+tests/fe_models/bracket.py, 18,690 DOFs blocked, 18,696 free, two *RIGID BODY spiders)
+imported, packed and run through the FMU with fmpy, against CalculiX's own results:
+
+- blocked (spider A held by *BOUNDARY on its REF and ROT nodes, spider B the connection):
+  a force and a moment held at spider B; the FMU (exact modal stepping, every mode
+  critically damped, damping.ratio = 1) settles on its static solution, which must equal
+  ccx's *STATIC displacement and rotation to 1e-6 relative; every frequency below fmax
+  equals ccx's *FREQUENCY to its 7 printed digits;
+- free: the frequencies from `fxbody info` equal ccx's to 7 digits; mass, centre of mass
+  and inertia equal R^T M R of the full mass matrix (read here from free.mas with numpy,
+  R the rigid motions with the spider reading) to 1e-10; a torque-free spin about a
+  non-principal axis follows the rigid Euler path.
+
+Needs ccx (scripts/setup-fe.sh) and gmsh; the model is generated once into
+target/fe_models/bracket-6 (shared with crates/import/tests)."""
+
+import json
+import pathlib
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+from fmpy import extract
+
+sys.path.insert(0, str(pathlib.Path(__file__).parent))
+from conftest import EXE, REPO  # noqa: E402
+from slave import Slave  # noqa: E402
+from test_import import euler_reference  # noqa: E402
+
+FMAX = 20000.0
+EXACT, IMPLICIT = 3, 2
+
+
+def printed(text):
+    """A number as ccx printed it, and half a unit of its last printed digit."""
+    mantissa, exp = text.upper().split("E")
+    decimals = len(mantissa.split(".")[1]) if "." in mantissa else 0
+    return float(text), 0.5 * 10.0 ** (int(exp) - decimals)
+
+
+@pytest.fixture(scope="module")
+def bracket():
+    out = REPO / "target" / "fe_models" / "bracket-6"
+    r = subprocess.run([sys.executable, str(REPO / "tests/fe_models/bracket.py"), str(out),
+                        "--size", "6.0", "--modes", "24"], capture_output=True, text=True)
+    assert r.returncode == 0, f"bracket.py failed (ccx and gmsh needed): {r.stdout}{r.stderr}"
+    return out
+
+
+def run(*args):
+    r = subprocess.run([str(EXE), *map(str, args)], capture_output=True, text=True)
+    assert r.returncode == 0, f"fxbody {' '.join(map(str, args))}: {r.stderr}"
+    return r.stdout
+
+
+def import_pack(bracket, case, tmp_path, *extra):
+    body = tmp_path / f"{case}.fxb"
+    out = run("import", bracket / f"{case}.inp", "--fmax", FMAX, "-o", body, "--report",
+              tmp_path / f"{case}.json", *extra)
+    fmu = tmp_path / f"{case}.fmu"
+    run("pack", body, "--coords", tmp_path / f"{case}.nodes.csv", "-o", fmu)
+    info = json.loads(run("info", "--json", body))
+    report = json.loads((tmp_path / f"{case}.json").read_text())
+    return out, fmu, info, report
+
+
+def assert_ccx_frequencies(ours, printed_hz):
+    theirs = [printed(t) for t in printed_hz]
+    theirs = [(f, h) for f, h in theirs if f < FMAX]
+    assert len(ours) == len(theirs), (ours, theirs)
+    worst = 0.0
+    for k, (f, (g, half)) in enumerate(zip(ours, theirs)):
+        assert abs(f - g) <= half + 1e-9 * g, f"mode {k + 1}: ours {f!r} Hz, ccx {g} +- {half}"
+        worst = max(worst, abs(f - g) / g)
+    return worst
+
+
+def test_blocked_statics_and_frequencies_through_the_fmu(bracket, tmp_path):
+    ref = json.loads((bracket / "reference.json").read_text())
+    _, fmu, info, report = import_pack(bracket, "blocked", tmp_path)
+    below = [f for f in info["frequencies_hz"] if f < FMAX]
+    worst_f = assert_ccx_frequencies(below, ref["blocked_hz"])
+    # The sparse eigen-solver's frequencies, to the body file's 10 significant digits
+    # (the import itself checks them to 1e-8 before writing).
+    model = report["whole_model"]["model_hz"]
+    assert np.allclose(below, model, rtol=1e-8, atol=0), (below, model)
+    st = ref["static"]
+    node = 900003
+    s = Slave(fmu, extract(str(fmu), str(tmp_path / "blocked_x")), name="static").start(
+        reals={"damping.ratio": 1.0}, ints={"method": EXACT})
+    names = [f"node_{node}.{c}" for c in ("x", "y", "z", "rx", "ry", "rz")]
+    x0 = s.get(*names)
+    s.set(**{f"node_{node}__f{c}": v for c, v in zip("xyz", st["force"])})
+    s.set(**{f"node_{node}__m{c}": v for c, v in zip("xyz", st["moment"])})
+    # Critically damped modes: the slowest (467 Hz) is within e^-58 (1 + 58) of its
+    # static value after 20 ms.
+    h = 1e-4
+    for k in range(200):
+        s.s.doStep(k * h, h)
+    u = s.get(*names) - np.concatenate([x0[:3], np.zeros(3)])
+    s.free()
+    for part, ours in (("ref", u[:3]), ("rot", u[3:])):
+        theirs = np.array([printed(t)[0] for t in st[part]])
+        half = np.array([printed(t)[1] for t in st[part]])
+        err = np.abs(ours - theirs)
+        rel = err.max() / np.abs(theirs).max()
+        print(f"blocked static {part}: FMU {ours}, ccx {theirs}, rel {rel:.1e}")
+        assert np.all(err <= np.maximum(1e-6 * np.abs(theirs).max(), half)), (ours, theirs)
+    print(f"blocked: {len(below)} modes below {FMAX} Hz equal ccx's to {worst_f:.1e}")
+
+
+def rigid_mass_properties(bracket):
+    """Mass, centre of mass and inertia about it from R^T M R, M read from free.mas (upper
+    triangle, 1-based equations), R the rigid motions over free.dof with the spider
+    reading (ROT nodes' directions 1-3 are rotations)."""
+    dofs = [line.split(".") for line in (bracket / "free.dof").read_text().split()]
+    ids = np.array([int(a) for a, _ in dofs])
+    comp = np.array([int(b) for _, b in dofs])
+    info = json.loads((bracket / "done.json").read_text())
+    rot = {s["rot"] for s in info["spiders"].values()}
+    xyz = {}
+    for line in (bracket / "nodes.csv").read_text().split():
+        f = line.split(",")
+        xyz[int(f[0])] = [float(v) for v in f[1:]]
+    n = len(ids)
+    r = np.zeros((n, 6))
+    for i in range(n):
+        c = comp[i] - 1
+        if ids[i] in rot:
+            r[i, 3 + c] = 1.0
+            continue
+        p = np.array(xyz[ids[i]])
+        r[i, c] = 1.0
+        for k in range(3):
+            r[i, 3 + k] = np.cross(np.eye(3)[k], p)[c]
+    t = np.fromfile(bracket / "free.mas", sep=" ").reshape(-1, 3)
+    i, j, v = t[:, 0].astype(int) - 1, t[:, 1].astype(int) - 1, t[:, 2]
+    upper = sp.coo_matrix((v, (i, j)), shape=(n, n)).tocsr()
+    full = upper + upper.T - sp.diags(upper.diagonal())
+    mr = r.T @ (full @ r)
+    m = mr[0, 0]
+    s = mr[:3, 3:] / m
+    c = np.array([s[1, 2], s[2, 0], s[0, 1]])
+    inertia = mr[3:, 3:] - m * (c @ c * np.eye(3) - np.outer(c, c))
+    return m, c, inertia
+
+
+def test_free_frequencies_mass_properties_and_spin_through_the_fmu(bracket, tmp_path):
+    ref = json.loads((bracket / "reference.json").read_text())
+    _, fmu, info, report = import_pack(bracket, "free", tmp_path)
+    assert info["iblo"] == 0
+    below = [f for f in info["frequencies_hz"] if f < FMAX]
+    worst_f = assert_ccx_frequencies(below, ref["free_hz"][6:])
+    m, c, inertia = rigid_mass_properties(bracket)
+    got = report["mass"]
+    em = abs(got["total_mass"] / m - 1)
+    ec = np.abs(np.array(got["center_of_mass"]) - c).max() / np.abs(c).max()
+    ei = np.abs(np.array(got["inertia"]) - inertia).max() / np.abs(inertia).max()
+    print(f"free: {len(below)} modes equal ccx's to {worst_f:.1e}; R^T M R: mass {em:.1e}, "
+          f"centre {ec:.1e}, inertia {ei:.1e}")
+    assert max(em, ec, ei) < 1e-10, (em, ec, ei)
+    # The body file keeps 10 significant digits; fxbody info sums M_R's blocks from it.
+    assert abs(info["mass"] / m - 1) < 1e-6
+    assert np.abs(np.array(info["inertia_at_cog"]) - inertia).max() < 1e-8 * np.abs(inertia).max()
+    # Torque-free spin about a non-principal axis: the frame follows the rigid Euler
+    # path with R^T M R's inertia.
+    w0 = np.array([6.0, -4.0, 8.0])
+    t_end, h, every = 2.0, 1e-3, 100
+    path = euler_reference(inertia, w0, t_end, h / 10)
+    s = Slave(fmu, extract(str(fmu), str(tmp_path / "free_x")), name="spin").start(
+        reals={"w0.x": w0[0], "w0.y": w0[1], "w0.z": w0[2]}, ints={"method": IMPLICIT})
+    pn = [f"frame.P{i}{j}" for i in (1, 2, 3) for j in (1, 2, 3)]
+    worst = 0.0
+    for step in range(1, int(round(t_end / h)) + 1):
+        s.s.doStep((step - 1) * h, h)
+        if step % every == 0:
+            p = s.get(*pn).reshape(3, 3)
+            worst = max(worst, np.abs(p - path[10 * step][:9].reshape(3, 3)).max())
+    s.free()
+    print(f"free spin {np.linalg.norm(w0) * t_end / (2 * np.pi):.1f} turns: attitude {worst:.1e}")
+    # The implicit scheme's phase error, about (w h)^2/12 per radian turned (2e-4 here).
+    assert worst < 5e-4, worst
