@@ -173,6 +173,17 @@ fn read_source(args: &ImportArgs, stages: &mut stages::StageBar) -> Result<Sourc
         }
     }
     let (k, m) = read_matrices(args)?;
+    let size = k.dofs.len().max(m.dofs.len());
+    if args.sparse || size > fxbody_import::MAX_DENSE_DOFS {
+        let (deck, deck_name) = read_whole_coords(args)?;
+        let name = args
+            .model
+            .as_ref()
+            .or(args.stiffness.as_ref())
+            .map_or_else(String::new, |p| p.display().to_string());
+        let model = WholeModel::from_terms(&k, &m, name).map_err(|e| e.to_string())?;
+        return Ok(Source::Whole(model, deck, deck_name));
+    }
     Ok(Source::Dense(k, m))
 }
 

@@ -53,6 +53,56 @@ pub struct WholeModel {
     pub name: String,
 }
 
+impl WholeModel {
+    /// A whole model from matrices read term by term (Abaqus, Nastran DMIG): over the
+    /// union of the DOFs K and M mention, sorted as [`SymMatrix::dofs`] are.
+    pub fn from_terms(
+        k: &SymMatrix,
+        m: &SymMatrix,
+        name: String,
+    ) -> Result<WholeModel, ImportError> {
+        let mut dofs: Vec<Dof> = k.dofs.iter().chain(&m.dofs).copied().collect();
+        dofs.sort_by_key(Dof::order_key);
+        dofs.dedup();
+        let csc = |a: &SymMatrix| {
+            let at: Vec<usize> = a
+                .dofs
+                .iter()
+                .map(|d| {
+                    dofs.binary_search_by_key(&d.order_key(), Dof::order_key)
+                        .unwrap_or_default()
+                })
+                .collect();
+            let n = dofs.len();
+            let mut count = vec![0usize; n + 1];
+            for &(_, j, _) in &a.terms {
+                count[at[j] + 1] += 1;
+            }
+            for j in 0..n {
+                count[j + 1] += count[j];
+            }
+            let mut next = count.clone();
+            let mut rows = vec![(0usize, 0.0f64); a.terms.len()];
+            for &(i, j, v) in &a.terms {
+                let c = at[j];
+                rows[next[c]] = (at[i], v);
+                next[c] += 1;
+            }
+            for j in 0..n {
+                rows[count[j]..count[j + 1]].sort_unstable_by_key(|r| r.0);
+            }
+            let (row_idx, values) = rows.into_iter().unzip();
+            SymCsc::from_parts(n, count, row_idx, values).map_err(whole_err)
+        };
+        Ok(WholeModel {
+            k: csc(k)?,
+            m: csc(m)?,
+            dofs,
+            name,
+        })
+    }
+}
+
 /// What the sparse stage found, for the report.
 #[derive(Debug, Clone, Default)]
 pub struct WholeReport {
