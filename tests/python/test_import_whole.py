@@ -306,3 +306,44 @@ def test_readme_whole_model_walkthrough(tmp_path):
     rigid = (f * t / mass + np.cross(w, arm))[0]
     print(f"README walkthrough: vx {vx:.4e} mm/s, rigid F t / m {rigid:.4e}")
     assert abs(vx / rigid - 1) < 0.2, (vx, rigid)
+
+
+def test_rigid_spider_built_from_a_node_set(bracket, tmp_path):
+    """The free bracket without spider B's *RIGID BODY (its REF and ROT nodes gone too),
+    run through ccx for its matrices; `--spider HOLEB:rigid` builds the spider on the
+    hole's node set. The six rigid motions stay in K's null space, and the frequencies
+    below fmax equal those of ccx's own *RIGID BODY model (the free.inp import, and ccx's
+    printed *FREQUENCY) to 1e-7."""
+    lines, skip = [], False
+    for line in (bracket / "mesh.inp").read_text().splitlines():
+        upper = line.upper()
+        if line.startswith("*"):
+            skip = upper.startswith("*NSET, NSET=SPIDERS")
+            if skip or (upper.startswith("*RIGID BODY") and "HOLEB" in upper):
+                continue
+        elif skip or line.split(",")[0].strip() in ("900003", "900004"):
+            continue
+        lines.append(line)
+    (tmp_path / "mesh.inp").write_text("\n".join(lines) + "\n")
+    (tmp_path / "nob.inp").write_text("*INCLUDE, INPUT=mesh.inp\n*STEP\n"
+                                      "*FREQUENCY, SOLVER=MATRIXSTORAGE\n*END STEP\n")
+    r = subprocess.run(["ccx", "-i", "nob"], cwd=tmp_path, capture_output=True, text=True)
+    assert r.returncode == 0 and "*ERROR" not in r.stdout, r.stdout[-2000:]
+    run("import", tmp_path / "nob.inp", "--spider", "HOLEB:rigid", "--fmax", FMAX, "-o",
+        tmp_path / "nob.fxb", "--report", tmp_path / "nob.json")
+    built = json.loads((tmp_path / "nob.json").read_text())
+    run("import", bracket / "free.inp", "--fmax", FMAX, "-o", tmp_path / "free.fxb",
+        "--report", tmp_path / "free.json")
+    spider = json.loads((tmp_path / "free.json").read_text())
+    assert built["free"] and built["nodes"] == 2
+    residual = built["whole_model"]["rigid_residual"]
+    assert residual < 1e-13, residual
+    a, b = (np.array(x["whole_model"]["model_hz"]) for x in (built, spider))
+    assert len(a) == len(b) == 14
+    diff = np.abs(a / b - 1).max()
+    ref = json.loads((bracket / "reference.json").read_text())
+    worst = assert_ccx_frequencies([f for f in built["frequencies_hz"] if f < FMAX],
+                                   ref["free_hz"][6:])
+    print(f"built rigid spider: |K r|/(|K||r|) {residual:.1e}, frequencies vs ccx's "
+          f"*RIGID BODY model {diff:.1e} (vs its printed ones {worst:.1e})")
+    assert diff < 1e-7, diff

@@ -19,6 +19,7 @@ use std::path::{Path, PathBuf};
 use fxbody::fxb;
 use fxbody_import::fe::{self, Deck, SymMatrix};
 use fxbody_import::whole::WholeModel;
+use fxbody_import::whole::spider::SpiderSpec;
 use fxbody_import::{Imported, Options, Support, Units};
 
 /// Arguments of `import`.
@@ -77,6 +78,11 @@ pub struct ImportArgs {
     /// Check and report only; write no body.
     #[arg(long)]
     pub check: bool,
+    /// Build a spider on a node set of the deck, NSET:rigid (RBE2-like: a new six-DOF node
+    /// at the set's centroid, the set's nodes tied rigidly to it), as a connection node;
+    /// whole models only. May be repeated.
+    #[arg(long)]
+    pub spider: Vec<String>,
     /// Take the whole-model route (sparse reduction, needs --fmax) whatever the model's
     /// size; by default only models above 3000 DOFs and CalculiX decks take it.
     #[arg(long)]
@@ -259,12 +265,30 @@ fn build(args: &ImportArgs, stages: &mut stages::StageBar) -> Result<Imported, S
     let opts = options(args)?;
     match source {
         Source::Whole(model, deck, deck_name) => {
-            fxbody_import::whole::build_whole(&model, &deck, &deck_name, &opts, &mut |s| {
-                stages.stage(s)
-            })
+            let spiders = args
+                .spider
+                .iter()
+                .map(|s| SpiderSpec::parse(s))
+                .collect::<Result<Vec<_>, _>>()
+                .map_err(|e| e.to_string())?;
+            fxbody_import::whole::build_whole(
+                &model,
+                &deck,
+                &deck_name,
+                &opts,
+                &spiders,
+                &mut |s| stages.stage(s),
+            )
             .map_err(|e| e.to_string())
         }
         Source::Dense(k, m) => {
+            if !args.spider.is_empty() {
+                return Err(
+                    "--spider: spiders are built on whole models only (a CalculiX \
+                            deck, or matrices above 3000 DOFs, or --sparse)"
+                        .into(),
+                );
+            }
             let coords = match &args.coords {
                 Some(p) => Some(fe::read_coords(p).map_err(|e| e.to_string())?),
                 None => None,

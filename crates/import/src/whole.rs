@@ -19,6 +19,7 @@
 //! exact.
 
 pub mod interface;
+pub mod spider;
 
 use std::collections::{BTreeMap, HashMap, HashSet};
 
@@ -145,6 +146,7 @@ fn connections(
     deck: &Deck,
     deck_name: &str,
     nodes: Option<&[i64]>,
+    built: &[i64],
 ) -> Result<Vec<Connection>, ImportError> {
     let eq: HashMap<Dof, usize> = model
         .dofs
@@ -183,7 +185,11 @@ fn connections(
                         eqs.push((c, e));
                     }
                 }
-                format!("node {id}")
+                if built.contains(&id) {
+                    format!("node {id}, a rigid spider built at the centroid of its set")
+                } else {
+                    format!("node {id}")
+                }
             }
         };
         eqs.sort_unstable();
@@ -209,6 +215,7 @@ fn connections(
             .iter()
             .filter(|s| (1..=3).any(|c| eq.contains_key(&Dof::new(s.reference, c))))
             .map(|s| s.reference)
+            .chain(built.iter().copied())
             .collect(),
     };
     if ids.is_empty() {
@@ -230,12 +237,31 @@ fn connections(
 }
 
 /// Build a body from a whole model (see the module text). `deck` gives the coordinates
-/// and spiders; `stage` is told when each stage starts (for a progress display).
+/// and spiders; `spiders` are built from node sets first ([`spider`]); `stage` is told
+/// when each stage starts (for a progress display).
 pub fn build_whole(
     model: &WholeModel,
     deck: &Deck,
     deck_name: &str,
     opts: &Options,
+    spiders: &[spider::SpiderSpec],
+    stage: &mut dyn FnMut(&str),
+) -> Result<Imported, ImportError> {
+    if spiders.is_empty() {
+        return build_on(model, deck, deck_name, opts, &[], stage);
+    }
+    stage("spiders");
+    let (model, deck, built) = spider::build_spiders(model, deck, deck_name, spiders)?;
+    build_on(&model, &deck, deck_name, opts, &built, stage)
+}
+
+/// [`build_whole`] once the spiders are built (`built`: their new nodes).
+fn build_on(
+    model: &WholeModel,
+    deck: &Deck,
+    deck_name: &str,
+    opts: &Options,
+    built: &[i64],
     stage: &mut dyn FnMut(&str),
 ) -> Result<Imported, ImportError> {
     let n = model.dofs.len();
@@ -250,7 +276,7 @@ pub fn build_whole(
     crate::check_options(opts)?;
     let mut times = Stages::new();
     let time_factor = opts.units.map_or(1.0, |u| u.time);
-    let conns = connections(model, deck, deck_name, opts.nodes.as_deref())?;
+    let conns = connections(model, deck, deck_name, opts.nodes.as_deref(), built)?;
     let eqs: Vec<usize> = conns
         .iter()
         .flat_map(|c| c.eqs.iter().map(|&(_, e)| e))
