@@ -18,8 +18,8 @@ use std::path::{Path, PathBuf};
 
 use fxbody::fxb;
 use fxbody_import::fe::{self, Deck, SymMatrix};
-use fxbody_import::whole::WholeModel;
 use fxbody_import::whole::spider::SpiderSpec;
+use fxbody_import::whole::{WholeModel, WholeOptions};
 use fxbody_import::{Imported, Options, Support, Units};
 
 /// Arguments of `import`.
@@ -83,6 +83,11 @@ pub struct ImportArgs {
     /// whole models only. May be repeated.
     #[arg(long)]
     pub spider: Vec<String>,
+    /// Whole models: `modes` keeps the model's own modes below --fmax plus static modes
+    /// (the body's frequencies below fmax are the model's); `craig-bampton` keeps the
+    /// fixed-interface modes below --fmax plus constraint modes.
+    #[arg(long, default_value = "modes")]
+    pub reduction: String,
     /// Take the whole-model route (sparse reduction, needs --fmax) whatever the model's
     /// size; by default only models above 3000 DOFs and CalculiX decks take it.
     #[arg(long)]
@@ -271,14 +276,21 @@ fn build(args: &ImportArgs, stages: &mut stages::StageBar) -> Result<Imported, S
                 .map(|s| SpiderSpec::parse(s))
                 .collect::<Result<Vec<_>, _>>()
                 .map_err(|e| e.to_string())?;
-            fxbody_import::whole::build_whole(
-                &model,
-                &deck,
-                &deck_name,
-                &opts,
-                &spiders,
-                &mut |s| stages.stage(s),
-            )
+            let whole = WholeOptions {
+                spiders,
+                craig_bampton: match args.reduction.as_str() {
+                    "modes" => false,
+                    "craig-bampton" => true,
+                    other => {
+                        return Err(format!(
+                            "--reduction: expected modes or craig-bampton, got '{other}'"
+                        ));
+                    }
+                },
+            };
+            fxbody_import::whole::build_whole(&model, &deck, &deck_name, &opts, &whole, &mut |s| {
+                stages.stage(s)
+            })
             .map_err(|e| e.to_string())
         }
         Source::Dense(k, m) => {

@@ -89,22 +89,33 @@ impl Report {
             for c in &w.connections {
                 let _ = writeln!(o, "connection: {c}");
             }
-            let _ = writeln!(
-                o,
-                "kept every mode of the model below {:.6e} Hz: {} (by inertia count; {} \
+            if w.craig_bampton {
+                let _ = writeln!(
+                    o,
+                    "Craig-Bampton: {} fixed-interface modes below {:.6e} Hz and {} \
+                     constraint modes (the body's frequencies are the Craig-Bampton model's)",
+                    w.model_hz.len(),
+                    w.fmax,
+                    w.static_modes
+                );
+            } else {
+                let _ = writeln!(
+                    o,
+                    "kept every mode of the model below {:.6e} Hz: {} (by inertia count; {} \
                  Lanczos block steps), with {} static modes; the body's frequencies below \
                  it equal the model's to {:.1e}{}",
-                w.fmax,
-                w.model_hz.len(),
-                w.lanczos_steps,
-                w.static_modes,
-                w.freq_match,
-                if w.dropped > 0 {
-                    format!("; {} dependent basis directions dropped", w.dropped)
-                } else {
-                    String::new()
-                }
-            );
+                    w.fmax,
+                    w.model_hz.len(),
+                    w.lanczos_steps,
+                    w.static_modes,
+                    w.freq_match,
+                    if w.dropped > 0 {
+                        format!("; {} dependent basis directions dropped", w.dropped)
+                    } else {
+                        String::new()
+                    }
+                );
+            }
         }
         let _ = writeln!(
             o,
@@ -223,6 +234,7 @@ impl Report {
                 "connections": w.connections,
                 "dropped_basis": w.dropped,
                 "lanczos_steps": w.lanczos_steps,
+                "reduction": if w.craig_bampton { "craig-bampton" } else { "modes" },
             })),
         })
     }

@@ -18,6 +18,7 @@
 //! against the sparse eigen-solver's to [`FREQ_MATCH`]), and statics at the connections are
 //! exact.
 
+pub mod cb;
 pub mod interface;
 pub mod spider;
 
@@ -40,6 +41,15 @@ pub const RIGID_TOL: f64 = 1e-9;
 /// The body's frequencies below fmax agree with the sparse eigen-solver's to this
 /// relative difference, or nothing is written.
 pub const FREQ_MATCH: f64 = 1e-8;
+
+/// The whole-model route's own options.
+#[derive(Debug, Clone, Default)]
+pub struct WholeOptions {
+    /// Spiders to build from node sets first ([`spider`]).
+    pub spiders: Vec<spider::SpiderSpec>,
+    /// Craig-Bampton instead of the model's own modes ([`cb`]).
+    pub craig_bampton: bool,
+}
 
 /// A whole model: its DOFs (equation order) and upper-triangle K and M.
 #[derive(Debug, Clone)]
@@ -127,6 +137,8 @@ pub struct WholeReport {
     pub dropped: usize,
     /// Lanczos block steps.
     pub lanczos_steps: usize,
+    /// Craig-Bampton reduction: `model_hz` are the fixed-interface frequencies.
+    pub craig_bampton: bool,
 }
 
 /// One connection node: its ID and, per component of the body, the model's equation.
@@ -244,15 +256,15 @@ pub fn build_whole(
     deck: &Deck,
     deck_name: &str,
     opts: &Options,
-    spiders: &[spider::SpiderSpec],
+    whole: &WholeOptions,
     stage: &mut dyn FnMut(&str),
 ) -> Result<Imported, ImportError> {
-    if spiders.is_empty() {
-        return build_on(model, deck, deck_name, opts, &[], stage);
+    if whole.spiders.is_empty() {
+        return build_on(model, deck, deck_name, opts, whole, &[], stage);
     }
     stage("spiders");
-    let (model, deck, built) = spider::build_spiders(model, deck, deck_name, spiders)?;
-    build_on(&model, &deck, deck_name, opts, &built, stage)
+    let (model, deck, built) = spider::build_spiders(model, deck, deck_name, &whole.spiders)?;
+    build_on(&model, &deck, deck_name, opts, whole, &built, stage)
 }
 
 /// [`build_whole`] once the spiders are built (`built`: their new nodes).
@@ -261,6 +273,7 @@ fn build_on(
     deck: &Deck,
     deck_name: &str,
     opts: &Options,
+    whole: &WholeOptions,
     built: &[i64],
     stage: &mut dyn FnMut(&str),
 ) -> Result<Imported, ImportError> {
@@ -314,20 +327,30 @@ fn build_on(
     };
     stage("order and factor");
     let lmax = eigen::lambda(fmax * time_factor);
-    let solver = Solver::new(&model.k, &model.m, &support, lmax).map_err(whole_err)?;
-    times.done("whole: order, count, factor");
-    stage("eigen-solve");
-    let modes = solver
-        .modes(&eigen::Options::default())
-        .map_err(whole_err)?;
-    times.done("whole: eigen-solve");
-    stage("static modes");
-    let psi = statics::static_modes(&solver, &eqs, &modes).map_err(whole_err)?;
-    times.done("whole: static modes");
+    let (basis, modes) = if whole.craig_bampton {
+        stage("fixed-interface modes, constraint modes");
+        let (b, modes) = cb::basis(&model.k, &model.m, &eqs, lmax).map_err(whole_err)?;
+        times.done("whole: Craig-Bampton basis");
+        (b, modes)
+    } else {
+        let solver = Solver::new(&model.k, &model.m, &support, lmax).map_err(whole_err)?;
+        times.done("whole: order, count, factor");
+        stage("eigen-solve");
+        let modes = solver
+            .modes(&eigen::Options::default())
+            .map_err(whole_err)?;
+        times.done("whole: eigen-solve");
+        stage("static modes");
+        let psi = statics::static_modes(&solver, &eqs, &modes).map_err(whole_err)?;
+        times.done("whole: static modes");
+        (
+            ritz_basis(&modes, &psi, solver.rigid().map(|l| &l.x)),
+            modes,
+        )
+    };
     stage("projection");
-    let basis = ritz_basis(&modes, &psi, solver.rigid().map(|l| &l.x));
     let small = interface::reduce(&model.k, &model.m, &basis, &eqs).map_err(whole_err)?;
-    drop(solver);
+    drop(basis);
     times.done("whole: projection, interface");
     let (ks, ms, node_coords) = small_model(&conns, &small, deck);
     let dense_opts = Options {
@@ -349,7 +372,14 @@ fn build_on(
         .collect();
     let body_hz = &built.report.frequencies_hz;
     let mut worst = 0.0f64;
-    for (k, &f) in model_hz.iter().enumerate() {
+    // Craig-Bampton: the body's frequencies are the CB model's, not these (the
+    // fixed-interface ones).
+    let compared = if whole.craig_bampton {
+        0
+    } else {
+        model_hz.len()
+    };
+    for (k, &f) in model_hz.iter().enumerate().take(compared) {
         let g = body_hz.get(k).copied().unwrap_or(f64::NAN);
         let d = (g - f).abs() / f;
         if d.is_nan() || d > FREQ_MATCH {
@@ -381,6 +411,7 @@ fn build_on(
         connections: conns.iter().map(|c| c.from.clone()).collect(),
         dropped: small.dropped,
         lanczos_steps: modes.steps,
+        craig_bampton: whole.craig_bampton,
     });
     Ok(built)
 }
