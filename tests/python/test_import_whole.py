@@ -387,3 +387,39 @@ def test_craig_bampton_reduction_equals_scipy_craig_bampton(bracket, tmp_path):
     err = np.abs(ours / ref - 1).max()
     print(f"Craig-Bampton ({int(keep.sum())} fixed-interface modes + 6): vs scipy {err:.1e}")
     assert err < 1e-8, err
+
+
+def test_progress_on_a_terminal_only(bracket, tmp_path):
+    """The stage display: on a terminal each stage (read, order and factor, eigen-solve,
+    static modes, projection, body, write) is named; with --quiet, or when stderr is not
+    a terminal, stderr stays empty."""
+    import os
+    import pty
+
+    args = [str(EXE), "import", str(bracket / "free.inp"), "--fmax", str(FMAX), "-o",
+            str(tmp_path / "p.fxb")]
+
+    def stderr_on_terminal(extra):
+        master, slave = pty.openpty()
+        p = subprocess.Popen(args + extra, stdout=subprocess.DEVNULL, stderr=slave)
+        os.close(slave)
+        out = b""
+        while True:
+            try:
+                chunk = os.read(master, 65536)
+            except OSError:
+                break
+            if not chunk:
+                break
+            out += chunk
+        assert p.wait() == 0
+        os.close(master)
+        return out.decode(errors="replace")
+
+    shown = stderr_on_terminal([])
+    for stage in ("read", "order and factor", "eigen-solve", "static modes", "projection",
+                  "body", "write"):
+        assert f"import: {stage}" in shown, (stage, shown[-2000:])
+    assert stderr_on_terminal(["--quiet"]) == ""
+    piped = subprocess.run(args, capture_output=True, text=True)
+    assert piped.returncode == 0 and piped.stderr == "", piped.stderr
