@@ -114,6 +114,24 @@ def test_blocked_statics_and_frequencies_through_the_fmu(bracket, tmp_path):
     print(f"blocked: {len(below)} modes below {FMAX} Hz equal ccx's to {worst_f:.1e}")
 
 
+def triplets(bracket, case, matrix):
+    """The stored terms of case.sti/.mas: 0-based rows, columns (upper triangle), values,
+    and the number of equations."""
+    n = len((bracket / f"{case}.dof").read_text().split())
+    t = np.fromfile(bracket / f"{case}.{matrix}", sep=" ").reshape(-1, 3)
+    return t[:, 0].astype(int) - 1, t[:, 1].astype(int) - 1, t[:, 2], n
+
+
+def full_matrix(bracket, case, matrix, digits=None):
+    """case.sti/.mas as a full symmetric scipy CSC matrix over the equations, its values
+    rounded to `digits` significant digits if given (as a punch holds them)."""
+    i, j, v, n = triplets(bracket, case, matrix)
+    if digits:
+        v = np.array([float(f"{x:.{digits - 1}E}") for x in v])
+    upper = sp.coo_matrix((v, (i, j)), shape=(n, n)).tocsc()
+    return (upper + upper.T - sp.diags(upper.diagonal())).tocsc()
+
+
 def rigid_mass_properties(bracket):
     """Mass, centre of mass and inertia about it from R^T M R, M read from free.mas (upper
     triangle, 1-based equations), R the rigid motions over free.dof with the spider
@@ -138,11 +156,7 @@ def rigid_mass_properties(bracket):
         r[i, c] = 1.0
         for k in range(3):
             r[i, 3 + k] = np.cross(np.eye(3)[k], p)[c]
-    t = np.fromfile(bracket / "free.mas", sep=" ").reshape(-1, 3)
-    i, j, v = t[:, 0].astype(int) - 1, t[:, 1].astype(int) - 1, t[:, 2]
-    upper = sp.coo_matrix((v, (i, j)), shape=(n, n)).tocsr()
-    full = upper + upper.T - sp.diags(upper.diagonal())
-    mr = r.T @ (full @ r)
+    mr = r.T @ (full_matrix(bracket, "free", "mas") @ r)
     m = mr[0, 0]
     s = mr[:3, 3:] / m
     c = np.array([s[1, 2], s[2, 0], s[0, 1]])
@@ -198,9 +212,8 @@ def ccx_terms(bracket, case, matrix):
         node, c = (int(x) for x in line.split("."))
         dofs.append((rot_to_ref[node], c + 3) if node in rot_to_ref else (node, c))
     dofs = np.array(dofs)
-    t = np.fromfile(bracket / f"{case}.{matrix}", sep=" ").reshape(-1, 3)
-    i, j = t[:, 0].astype(int) - 1, t[:, 1].astype(int) - 1
-    return dofs[i], dofs[j], t[:, 2]
+    i, j, v, _ = triplets(bracket, case, matrix)
+    return dofs[i], dofs[j], v
 
 
 def write_abaqus_whole(path, rows, cols, values):
@@ -258,7 +271,7 @@ def test_whole_abaqus_and_dmig_models(bracket, tmp_path, fmt):
     # A punch keeps 10 digits, which moves a solid model's low eigenvalues by up to 1e-6
     # (K's norm is 1e6 times its lowest eigenvalue): the reference is the punched matrices'
     # own eigenvalues (scipy, shift-invert about 0), and ccx's to 1e-5.
-    kp, mp = (punched(bracket, case, x) for x in ("sti", "mas"))
+    kp, mp = (full_matrix(bracket, case, x, digits=10) for x in ("sti", "mas"))
     lam = spla.eigsh(kp, k=len(below) + 2, M=mp, sigma=0, which="LM",
                      return_eigenvectors=False)
     ref_hz = np.sort(np.sqrt(lam) / (2 * np.pi))[: len(below)]
@@ -268,17 +281,6 @@ def test_whole_abaqus_and_dmig_models(bracket, tmp_path, fmt):
     print(f"{fmt} ({case}): {len(below)} modes equal the punched matrices' to {worst:.1e}, "
           f"ccx's to {off:.1e}")
     assert worst < 1e-7 and off < 1e-5, (worst, off)
-
-
-def punched(bracket, case, matrix):
-    """case.sti/.mas with every value rounded as the punch holds it, full and symmetric
-    (scipy CSC over the equations)."""
-    n = len((bracket / f"{case}.dof").read_text().split())
-    t = np.fromfile(bracket / f"{case}.{matrix}", sep=" ").reshape(-1, 3)
-    i, j = t[:, 0].astype(int) - 1, t[:, 1].astype(int) - 1
-    v = np.array([float(f"{x:16.9E}") for x in t[:, 2]])
-    upper = sp.coo_matrix((v, (i, j)), shape=(n, n)).tocsc()
-    return (upper + upper.T - sp.diags(upper.diagonal())).tocsc()
 
 
 def test_readme_whole_model_walkthrough(tmp_path):
@@ -350,15 +352,6 @@ def test_rigid_spider_built_from_a_node_set(bracket, tmp_path):
     assert diff < 1e-7, diff
 
 
-def full_matrix(bracket, case, matrix):
-    """case.sti/.mas as a full symmetric scipy CSC matrix over the equations."""
-    n = len((bracket / f"{case}.dof").read_text().split())
-    t = np.fromfile(bracket / f"{case}.{matrix}", sep=" ").reshape(-1, 3)
-    i, j = t[:, 0].astype(int) - 1, t[:, 1].astype(int) - 1
-    upper = sp.coo_matrix((t[:, 2], (i, j)), shape=(n, n)).tocsc()
-    return (upper + upper.T - sp.diags(upper.diagonal())).tocsc()
-
-
 def test_craig_bampton_reduction_equals_scipy_craig_bampton(bracket, tmp_path):
     """`--reduction craig-bampton` on the blocked bracket (spider B the interface, fmax
     20 kHz): every frequency of the body equals that of the Craig-Bampton model built
@@ -423,3 +416,36 @@ def test_progress_on_a_terminal_only(bracket, tmp_path):
     assert stderr_on_terminal(["--quiet"]) == ""
     piped = subprocess.run(args, capture_output=True, text=True)
     assert piped.returncode == 0 and piped.stderr == "", piped.stderr
+
+
+def test_whole_model_errors_name_the_cause(bracket, tmp_path):
+    """Each refusal of the whole-model route says what is wrong and what to give."""
+    def refused(*args):
+        r = subprocess.run([str(EXE), "import", *map(str, args), "-o", str(tmp_path / "x.fxb")],
+                           capture_output=True, text=True)
+        assert r.returncode != 0, r.stdout
+        return r.stderr
+
+    free, blocked = bracket / "free.inp", bracket / "blocked.inp"
+    assert "give --fmax" in refused(free)
+    e = refused(free, "--fmax", FMAX, "--nodes", "900004")
+    assert "node 900004 is the ROT node" in e and "give its REF node 900003" in e, e
+    e = refused(blocked, "--fmax", FMAX, "--nodes", "900001")
+    assert "node 900001 has no equation" in e, e
+    e = refused(blocked, "--fmax", FMAX, "--free")
+    assert "is not in K's null space" in e, e
+    e = refused(free, "--fmax", FMAX, "--spider", "HOLEC:rigid")
+    assert "no node set HOLEC" in e and "HOLEA" in e, e
+    e = refused(free, "--fmax", FMAX, "--spider", "HOLEB:distributing")
+    assert "not built yet" in e, e
+    e = refused(free, "--fmax", FMAX, "--reduction", "guyan")
+    assert "expected modes or craig-bampton" in e, e
+    # A single three-DOF node cannot hold a free body's rotations.
+    e = refused(free, "--fmax", FMAX, "--nodes", "1", "--reduction", "craig-bampton")
+    assert "six rigid motions" in e, e
+    bad = tmp_path / "bad.inp"
+    bad.write_text("*INCLUDE, INPUT=" + str(bracket / "mesh.inp") + "\n*RIGID BODY, NSET=HOLEA\n")
+    for ext in ("sti", "mas", "dof"):
+        (tmp_path / f"bad.{ext}").symlink_to(bracket / f"free.{ext}")
+    e = refused(bad, "--fmax", FMAX)
+    assert "bad.inp:2: *RIGID BODY without REF NODE" in e, e

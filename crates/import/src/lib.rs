@@ -106,8 +106,9 @@ impl Default for Options {
 pub enum ImportError {
     /// Too many DOFs for the dense solver.
     #[error(
-        "dense size {0} DOFs exceeds the limit of {MAX_DENSE_DOFS}: reduce the model in your \
-         FE code (Craig-Bampton or Guyan) and import the reduced matrices"
+        "dense size {0} DOFs exceeds the limit of {MAX_DENSE_DOFS}: import the whole model \
+         through the sparse route with --fmax (a CalculiX deck JOB.inp, or these matrices \
+         with --coords and --nodes), or reduce it in your FE code"
     )]
     TooLarge(usize),
     /// The whole-model route (sparse reduction) failed: the cause, named.
