@@ -477,10 +477,15 @@ def test_error_too_large(tmp_path):
     a = np.eye(n)
     im.write_abaqus(tmp_path / "K.mtx", dofs, a)
     im.write_abaqus(tmp_path / "M.mtx", dofs, a)
+    # Above the dense limit the import takes the whole-model (sparse) route, which asks
+    # for the coordinates, then for --fmax (test_import_whole.py covers the route).
     r = run_import("--stiffness", tmp_path / "K.mtx", "--mass", tmp_path / "M.mtx", "-o",
                    tmp_path / "x.fxb", ok=False)
-    assert "dense size 3001 DOFs exceeds the limit of 3000" in r.stderr and "reduce the model in your" \
-        " FE code (Craig-Bampton or Guyan)" in r.stderr, r.stderr
+    assert "a whole model needs its node coordinates: give --coords" in r.stderr, r.stderr
+    im.write_csv(tmp_path / "nodes.csv", list(range(1, 1002)), np.zeros((1001, 3)))
+    r = run_import("--stiffness", tmp_path / "K.mtx", "--mass", tmp_path / "M.mtx", "--coords",
+                   tmp_path / "nodes.csv", "-o", tmp_path / "x.fxb", ok=False)
+    assert "is a whole model (3001 DOFs): give --fmax" in r.stderr, r.stderr
 
 
 def test_units_conversion(model, tmp_path):

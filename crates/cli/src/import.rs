@@ -2,20 +2,33 @@
 //!
 //! `fxbody import model.pch --coords nodes.csv -o body.fxb` (Nastran DMIG KAAX/MAAX), or
 //! `fxbody import --stiffness K.mtx --mass M.mtx [--dof-map job.dof] --coords ... -o
-//! body.fxb` (Abaqus MATRIX INPUT lines, or CalculiX `.sti`/`.mas` with `.dof`). Writes
-//! the body, its node coordinates beside it (`body.nodes.csv`, for `fxbody pack
-//! --coords`), a report on stdout and, with `--report`, as JSON.
+//! body.fxb` (Abaqus MATRIX INPUT lines, or CalculiX `.sti`/`.mas` with `.dof`), or a
+//! whole CalculiX model, `fxbody import JOB.inp --fmax F -o body.fxb` (the deck, with
+//! `JOB.sti`, `JOB.mas`, `JOB.dof` beside it). Writes the body, its node coordinates
+//! beside it (`body.nodes.csv`, for `fxbody pack --coords`), a report on stdout and, with
+//! `--report`, as JSON.
+//!
+//! Route: a model above [`fxbody_import::MAX_DENSE_DOFS`] DOFs, a CalculiX deck, or
+//! `--sparse` goes through the whole-model route ([`fxbody_import::whole`]); a small
+//! reduced model (a Nastran punch) through the dense one.
+
+mod stages;
 
 use std::path::{Path, PathBuf};
 
 use fxbody::fxb;
-use fxbody_import::fe::{self, SymMatrix};
-use fxbody_import::{ImportError, Options, Support, Units};
+use fxbody_import::fe::{self, Deck, SymMatrix};
+use fxbody_import::whole::spider::SpiderSpec;
+use fxbody_import::whole::{WholeModel, WholeOptions};
+use fxbody_import::{ImportError, Imported, Options, Support, Units};
 
 /// Arguments of `import`.
 #[derive(Debug, clap::Args)]
 pub struct ImportArgs {
-    /// Nastran DMIG file (punch `.pch` or bulk data) holding the stiffness and mass.
+    /// Nastran DMIG file (punch `.pch` or bulk data) holding the stiffness and mass, or a
+    /// CalculiX deck `JOB.inp` whose matrix storage (`JOB.sti`, `JOB.mas`, `JOB.dof`, from
+    /// `*FREQUENCY, SOLVER=MATRIXSTORAGE`) lies beside it: the whole model, with its
+    /// `*RIGID BODY` spiders as connection nodes.
     pub model: Option<PathBuf>,
     /// Stiffness file (Abaqus `*MATRIX OUTPUT` lines, or CalculiX `.sti` with --dof-map),
     /// instead of a DMIG file.
@@ -65,6 +78,23 @@ pub struct ImportArgs {
     /// Check and report only; write no body.
     #[arg(long)]
     pub check: bool,
+    /// Build a spider on a node set of the deck, NSET:rigid (RBE2-like: a new six-DOF node
+    /// at the set's centroid, the set's nodes tied rigidly to it), as a connection node;
+    /// whole models only. May be repeated.
+    #[arg(long)]
+    pub spider: Vec<String>,
+    /// Whole models: `modes` keeps the model's own modes below --fmax plus static modes
+    /// (the body's frequencies below fmax are the model's); `craig-bampton` keeps the
+    /// fixed-interface modes below --fmax plus constraint modes.
+    #[arg(long, default_value = "modes")]
+    pub reduction: String,
+    /// Take the whole-model route (sparse reduction, needs --fmax) whatever the model's
+    /// size; by default only models above 3000 DOFs and CalculiX decks take it.
+    #[arg(long)]
+    pub sparse: bool,
+    /// No progress display on stderr.
+    #[arg(long, short)]
+    pub quiet: bool,
     /// Test only: write OpenRadioss's naive M_R = Phi_R^T M Phi_R.
     #[arg(long, hide = true)]
     pub naive_mass_r: bool,
@@ -89,8 +119,114 @@ fn check_inputs(args: &ImportArgs) -> Result<(), String> {
     Ok(())
 }
 
-fn read_matrices(args: &ImportArgs) -> Result<(SymMatrix, SymMatrix), String> {
+/// What the import builds from: a small model's matrices for the dense route, or a whole
+/// model with its deck (coordinates, spiders) and the deck's name.
+enum Source {
+    Dense(SymMatrix, SymMatrix),
+    Whole(WholeModel, Deck, String),
+}
+
+/// Whether `path` names a CalculiX/Abaqus deck (`.inp`).
+fn is_deck(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("inp"))
+}
+
+/// `dir/JOB.inp` -> `dir/JOB`.
+fn job_of(deck: &Path) -> PathBuf {
+    deck.with_extension("")
+}
+
+/// Read what the chosen route needs (see the module text).
+fn read_source(args: &ImportArgs, stages: &mut stages::StageBar) -> Result<Source, String> {
     check_inputs(args)?;
+    let e = |e: fe::FeError| e.to_string();
+    stages.stage("read");
+    if let Some(deck_path) = args.model.as_ref().filter(|p| is_deck(p)) {
+        if args.coords.is_some() {
+            return Err(format!(
+                "--coords: the deck {} gives the node coordinates; leave --coords out",
+                deck_path.display()
+            ));
+        }
+        let job = job_of(deck_path);
+        let deck = fe::read_deck(deck_path).map_err(e)?;
+        let ms = fe::calculix::read_job(&job).map_err(e)?;
+        let name = format!("{}.sti/.mas/.dof", job.display());
+        return Ok(Source::Whole(
+            WholeModel {
+                dofs: ms.dofs,
+                k: ms.k,
+                m: ms.m,
+                name,
+            },
+            deck,
+            deck_path.display().to_string(),
+        ));
+    }
+    if let (Some(k), Some(m), Some(map)) = (&args.stiffness, &args.mass, &args.dof_map) {
+        let dofs = fe::calculix::read_dofs(map).map_err(e)?;
+        if args.sparse || dofs.len() > fxbody_import::MAX_DENSE_DOFS {
+            let deck = read_whole_coords(args)?;
+            let kk = fe::calculix::read_matrix(k, &dofs, map).map_err(e)?;
+            let mm = fe::calculix::read_matrix(m, &dofs, map).map_err(e)?;
+            let name = format!("{}, {}, {}", k.display(), m.display(), map.display());
+            return Ok(Source::Whole(
+                WholeModel {
+                    dofs,
+                    k: kk,
+                    m: mm,
+                    name,
+                },
+                deck.0,
+                deck.1,
+            ));
+        }
+    }
+    let (k, m) = read_matrices(args)?;
+    let size = k.dofs.len().max(m.dofs.len());
+    if args.sparse || size > fxbody_import::MAX_DENSE_DOFS {
+        let (deck, deck_name) = read_whole_coords(args)?;
+        let name = args
+            .model
+            .as_ref()
+            .or(args.stiffness.as_ref())
+            .map_or_else(String::new, |p| p.display().to_string());
+        let model = WholeModel::from_terms(&k, &m, name).map_err(|e| e.to_string())?;
+        return Ok(Source::Whole(model, deck, deck_name));
+    }
+    Ok(Source::Dense(k, m))
+}
+
+/// The coordinates (and spiders, from a deck) of a whole model given by --stiffness,
+/// --mass, --dof-map: a `.inp` deck is read as one, any other coordinate file for its
+/// nodes only.
+fn read_whole_coords(args: &ImportArgs) -> Result<(Deck, String), String> {
+    let Some(p) = &args.coords else {
+        return Err(
+            "a whole model needs its node coordinates: give --coords with the deck (.inp, \
+             which also gives the *RIGID BODY spiders) or a coordinate file"
+                .into(),
+        );
+    };
+    let name = p.display().to_string();
+    if is_deck(p) {
+        return Ok((fe::read_deck(p).map_err(|e| e.to_string())?, name));
+    }
+    let nodes = fe::read_model_coords(p)
+        .map_err(|e| e.to_string())?
+        .into_iter()
+        .collect();
+    Ok((
+        Deck {
+            nodes,
+            ..Deck::default()
+        },
+        name,
+    ))
+}
+
+fn read_matrices(args: &ImportArgs) -> Result<(SymMatrix, SymMatrix), String> {
     let e = |e: fe::FeError| e.to_string();
     if let Some(model) = &args.model {
         return Ok((
@@ -129,23 +265,83 @@ fn worded(e: &ImportError) -> String {
         ImportError::BadDamping(..) => format!("--damping: {e}"),
         ImportError::BadNodes(_) => format!("--nodes: {e}"),
         ImportError::CoordinatesNeeded => format!("{e}: give --coords"),
+        ImportError::BadSpider(_) => format!("--spider: {e}"),
+        ImportError::FmaxNeeded { .. } => format!("{e}: give --fmax"),
         _ => e.to_string(),
     }
 }
 
 /// Run `import`: write the files and the report, or return the error message.
 pub fn run(args: &ImportArgs) -> Result<(), String> {
-    let (k, m) = read_matrices(args)?;
-    let coords = match &args.coords {
-        Some(p) => Some(
-            fe::read_model_coords(p)
-                .map_err(|e| e.to_string())?
-                .into_iter()
-                .collect(),
-        ),
-        None => None,
-    };
-    let opts = Options {
+    let mut stages = stages::StageBar::new(args.quiet);
+    let built = build(args, &mut stages)?;
+    stages.stage("write");
+    let out = write(args, &built)?;
+    drop(stages);
+    print!("{out}");
+    Ok(())
+}
+
+/// The body, by the route the input takes.
+fn build(args: &ImportArgs, stages: &mut stages::StageBar) -> Result<Imported, String> {
+    let source = read_source(args, stages)?;
+    let opts = options(args)?;
+    match source {
+        Source::Whole(model, deck, deck_name) => {
+            let spiders = args
+                .spider
+                .iter()
+                .map(|s| SpiderSpec::parse(s))
+                .collect::<Result<Vec<_>, _>>()
+                .map_err(|e| e.to_string())?;
+            let whole = WholeOptions {
+                spiders,
+                craig_bampton: match args.reduction.as_str() {
+                    "modes" => false,
+                    "craig-bampton" => true,
+                    other => {
+                        return Err(format!(
+                            "--reduction: expected modes or craig-bampton, got '{other}'"
+                        ));
+                    }
+                },
+            };
+            fxbody_import::whole::build_whole(&model, &deck, &deck_name, &opts, &whole, &mut |s| {
+                stages.stage(s)
+            })
+            .map_err(|e| worded(&e))
+        }
+        Source::Dense(k, m) => {
+            if !args.spider.is_empty() {
+                return Err(
+                    "--spider: spiders are built on whole models only (a CalculiX \
+                            deck, or matrices above 3000 DOFs, or --sparse)"
+                        .into(),
+                );
+            }
+            let coords = match &args.coords {
+                Some(p) => Some(
+                    fe::read_model_coords(p)
+                        .map_err(|e| e.to_string())?
+                        .into_iter()
+                        .collect(),
+                ),
+                None => None,
+            };
+            let coords_name = args
+                .coords
+                .as_ref()
+                .map_or_else(String::new, |p| p.display().to_string());
+            stages.stage("body");
+            fxbody_import::build(&k, &m, coords.as_ref(), &coords_name, &opts)
+                .map_err(|e| worded(&e))
+        }
+    }
+}
+
+/// The import options from the arguments.
+fn options(args: &ImportArgs) -> Result<Options, String> {
+    Ok(Options {
         support: match (args.free, args.blocked) {
             (true, _) => Support::Free,
             (_, true) => Support::Blocked,
@@ -161,13 +357,11 @@ pub fn run(args: &ImportArgs) -> Result<(), String> {
         nodes: args.nodes.clone(),
         damping: args.damping.as_ref().map(|d| (d[0], d[1])),
         naive_mass_r: args.naive_mass_r,
-    };
-    let coords_name = args
-        .coords
-        .as_ref()
-        .map_or_else(String::new, |p| p.display().to_string());
-    let built = fxbody_import::build(&k, &m, coords.as_ref(), &coords_name, &opts)
-        .map_err(|e| worded(&e))?;
+    })
+}
+
+/// Write the body, its coordinates and the JSON report; the report text for stdout.
+fn write(args: &ImportArgs, built: &Imported) -> Result<String, String> {
     let mut out = built.report.text();
     if let Some(path) = &args.report {
         let text = serde_json::to_string_pretty(&built.report.json())
@@ -197,6 +391,5 @@ pub fn run(args: &ImportArgs) -> Result<(), String> {
             ));
         }
     }
-    print!("{out}");
-    Ok(())
+    Ok(out)
 }

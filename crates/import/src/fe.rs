@@ -15,6 +15,7 @@
 //!   ([`read_abaqus`]);
 //! - CalculiX matrix storage, `.sti`/`.mas` with `.dof` ([`read_calculix`]; the whole
 //!   model, for the sparse path: [`calculix::read_job`]);
+//! - a CalculiX deck's nodes, node sets and `*RIGID BODY` spiders ([`read_deck`]);
 //! - coordinates from Nastran `GRID` cards, a Radioss `/NODE` deck, Abaqus `*NODE`, or CSV
 //!   `id,x,y,z` ([`read_model_coords`]).
 
@@ -22,6 +23,7 @@ mod abaqus;
 pub mod calculix;
 mod cards;
 mod coords;
+pub mod deck;
 mod dmig;
 mod error;
 mod fields;
@@ -32,6 +34,7 @@ use std::fmt;
 pub use abaqus::read_abaqus;
 pub use calculix::read_calculix;
 pub use coords::read_model_coords;
+pub use deck::{Deck, RigidBody, read_deck};
 pub use dmig::read_dmig;
 pub use error::{Cols, FeError, Loc};
 pub use fields::nastran_real;

@@ -41,6 +41,7 @@ pub mod sparse;
 pub mod support;
 pub mod tridiag;
 pub mod units;
+pub mod whole;
 
 pub use report::Report;
 pub use units::Units;
@@ -106,10 +107,29 @@ impl Default for Options {
 pub enum ImportError {
     /// Too many DOFs for the dense solver.
     #[error(
-        "dense size {0} DOFs exceeds the limit of {MAX_DENSE_DOFS}: reduce the model in your \
-         FE code (Craig-Bampton or Guyan) and import the reduced matrices"
+        "dense size {0} DOFs exceeds the limit of {MAX_DENSE_DOFS}: import the whole model \
+         through the sparse route with --fmax (a CalculiX deck JOB.inp, or these matrices \
+         with --coords and --nodes), or reduce it in your FE code"
     )]
     TooLarge(usize),
+    /// The whole-model route (sparse reduction) failed: the cause, named.
+    #[error("{0}")]
+    Whole(String),
+    /// A spider to build on a node set cannot be built as asked: the cause, named.
+    #[error("{0}")]
+    BadSpider(String),
+    /// A whole model needs the highest frequency its body must keep.
+    #[error(
+        "{model} is a whole model ({dofs} DOFs): it needs the highest frequency the body \
+         must keep (every mode of the model below it is kept exactly, with a static mode per \
+         connection DOF)"
+    )]
+    FmaxNeeded {
+        /// The model's name (its files).
+        model: String,
+        /// Its number of DOFs.
+        dofs: usize,
+    },
     /// Nothing to build from.
     #[error("the matrices hold no DOF with stiffness or mass")]
     Empty,
@@ -276,14 +296,14 @@ pub struct Imported {
 
 /// Wall time of the import's stages, printed to stderr when the environment variable
 /// `FXBODY_IMPORT_TIMES` is set (to profile a large import; off by default).
-struct Stages {
+pub(crate) struct Stages {
     start: Option<std::time::Instant>,
     last: f64,
     lines: Vec<String>,
 }
 
 impl Stages {
-    fn new() -> Stages {
+    pub(crate) fn new() -> Stages {
         let on = std::env::var_os("FXBODY_IMPORT_TIMES").is_some();
         Stages {
             start: on.then(std::time::Instant::now),
@@ -293,7 +313,7 @@ impl Stages {
     }
 
     /// The stage `name` ended now.
-    fn done(&mut self, name: &str) {
+    pub(crate) fn done(&mut self, name: &str) {
         if let Some(t) = self.start {
             let now = t.elapsed().as_secs_f64();
             self.lines
@@ -314,15 +334,8 @@ impl Drop for Stages {
     }
 }
 
-/// Build a body from K and M (see the module text). `coords_file` names the coordinates'
-/// file in messages.
-pub fn build(
-    k: &SymMatrix,
-    m: &SymMatrix,
-    coords: Option<&BTreeMap<i64, [f64; 3]>>,
-    coords_file: &str,
-    opts: &Options,
-) -> Result<Imported, ImportError> {
+/// The option values `build` and the whole-model route refuse before any work.
+pub(crate) fn check_options(opts: &Options) -> Result<(), ImportError> {
     if let Some(f) = opts.fmax
         && !(f.is_finite() && f > 0.0)
     {
@@ -333,6 +346,19 @@ pub fn build(
     {
         return Err(ImportError::BadDamping(a, b));
     }
+    Ok(())
+}
+
+/// Build a body from K and M (see the module text). `coords_file` names the coordinates'
+/// file in messages.
+pub fn build(
+    k: &SymMatrix,
+    m: &SymMatrix,
+    coords: Option<&BTreeMap<i64, [f64; 3]>>,
+    coords_file: &str,
+    opts: &Options,
+) -> Result<Imported, ImportError> {
+    check_options(opts)?;
     let mut report = Report::default();
     let mut stages = Stages::new();
     let mut model = dofs::DofMatrices::from_matrices(k, m)?;

@@ -52,6 +52,8 @@ pub struct Report {
     pub nodes: usize,
     /// Irot flag.
     pub irot: bool,
+    /// The whole-model route's findings (sparse reduction), when it ran.
+    pub whole: Option<crate::whole::WholeReport>,
 }
 
 impl Report {
@@ -78,6 +80,43 @@ impl Report {
     /// Human-readable summary.
     pub fn text(&self) -> String {
         let mut o = String::new();
+        if let Some(w) = &self.whole {
+            let _ = writeln!(
+                o,
+                "model: {} equations, {} stored terms of K; rigid motions |K r|/(|K||r|) = {:.1e}",
+                w.equations, w.nnz, w.rigid_residual
+            );
+            for c in &w.connections {
+                let _ = writeln!(o, "connection: {c}");
+            }
+            if w.craig_bampton {
+                let _ = writeln!(
+                    o,
+                    "Craig-Bampton: {} fixed-interface modes below {:.6e} Hz and {} \
+                     constraint modes (the body's frequencies are the Craig-Bampton model's)",
+                    w.model_hz.len(),
+                    w.fmax,
+                    w.static_modes
+                );
+            } else {
+                let _ = writeln!(
+                    o,
+                    "kept every mode of the model below {:.6e} Hz: {} (by inertia count; {} \
+                 Lanczos block steps), with {} static modes; the body's frequencies below \
+                 it equal the model's to {:.1e}{}",
+                    w.fmax,
+                    w.model_hz.len(),
+                    w.lanczos_steps,
+                    w.static_modes,
+                    w.freq_match,
+                    if w.dropped > 0 {
+                        format!("; {} dependent basis directions dropped", w.dropped)
+                    } else {
+                        String::new()
+                    }
+                );
+            }
+        }
         let _ = writeln!(
             o,
             "body: {}, {} nodes, Irot {}, {} DOFs ({} with mass)",
@@ -184,6 +223,19 @@ impl Report {
             "naive_m_r_rel_diff": self.naive_m_r_diff,
             "offdiag_dropped": self.offdiag,
             "warnings": self.warnings,
+            "whole_model": self.whole.as_ref().map(|w| json!({
+                "equations": w.equations,
+                "nnz_k": w.nnz,
+                "fmax_hz": w.fmax,
+                "model_hz": w.model_hz,
+                "freq_match": w.freq_match,
+                "static_modes": w.static_modes,
+                "rigid_residual": w.rigid_residual,
+                "connections": w.connections,
+                "dropped_basis": w.dropped,
+                "lanczos_steps": w.lanczos_steps,
+                "reduction": if w.craig_bampton { "craig-bampton" } else { "modes" },
+            })),
         })
     }
 }
