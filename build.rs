@@ -21,6 +21,13 @@ fn main() {
         .with_src(crate_dir.join("src/fmi/exports.rs"))
         .with_src(crate_dir.join("src/fmi/values.rs"))
         .with_src(crate_dir.join("src/fmi/fmu_state.rs"))
+        .with_src(crate_dir.join("src/fmi/fmi3/types.rs"))
+        .with_src(crate_dir.join("src/fmi/fmi3/exports.rs"))
+        .with_src(crate_dir.join("src/fmi/fmi3/values.rs"))
+        .with_src(crate_dir.join("src/fmi/fmi3/other_types.rs"))
+        .with_src(crate_dir.join("src/fmi/fmi3/fmu_state.rs"))
+        .with_src(crate_dir.join("src/fmi/fmi3/clocks.rs"))
+        .with_src(crate_dir.join("src/fmi/fmi3/model_exchange.rs"))
         .with_config(config)
         .generate()
     {
