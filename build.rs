@@ -25,6 +25,7 @@ fn main() {
         .with_src(crate_dir.join("src/fmi/fmi3/exports.rs"))
         .with_src(crate_dir.join("src/fmi/fmi3/values.rs"))
         .with_src(crate_dir.join("src/fmi/fmi3/other_types.rs"))
+        .with_src(crate_dir.join("src/fmi/fmi3/non_numeric.rs"))
         .with_src(crate_dir.join("src/fmi/fmi3/fmu_state.rs"))
         .with_src(crate_dir.join("src/fmi/fmi3/clocks.rs"))
         .with_src(crate_dir.join("src/fmi/fmi3/model_exchange.rs"))

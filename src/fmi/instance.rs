@@ -87,8 +87,19 @@ impl Log {
         (self.always_errors && cat <= LOG_WARNING) || self.enabled[cat]
     }
 
-    /// Send `text` to the logger (if any and if the category is on).
+    /// Send `text` to the logger (if any and if the category is on). An FMI 3.0 logger
+    /// reads the shared layers' FMI 2.0 function names as their FMI 3.0 names.
     pub fn send(&self, status: fmi2Status, cat: usize, text: &str) {
+        self.emit(status, cat, text, true);
+    }
+
+    /// [`Log::send`] with the function names left as written (a message about a call of
+    /// the other version's function).
+    pub fn send_verbatim(&self, status: fmi2Status, cat: usize, text: &str) {
+        self.emit(status, cat, text, false);
+    }
+
+    fn emit(&self, status: fmi2Status, cat: usize, text: &str, rename: bool) {
         if !self.on(cat) {
             return;
         }
@@ -115,7 +126,7 @@ impl Log {
             Logger::Fmi3(Some(logger)) => {
                 // FMI 3.0's logger has no instance name: the message starts with it.
                 let name = self.name.to_string_lossy();
-                let msg = c_text(&fmi3_text(&format!("{name}: {text}")));
+                let msg = c_text(&fmi3_text(&format!("{name}: {text}"), rename));
                 // SAFETY: `logger` is the master's logMessage, valid for the instance's
                 // life (FMI 3.0: callbacks stay valid until fmi3FreeInstance), called with
                 // its four declared arguments (not variadic); the strings are
@@ -272,7 +283,7 @@ fn illegal(inst: &mut Instance, version: FmiVersion, func: &str, mask: u16) -> f
             inst.version.number(),
             &inst.version.number()[..1]
         );
-        inst.log.send(fmi2Error, LOG_ERROR, &msg);
+        inst.log.send_verbatim(fmi2Error, LOG_ERROR, &msg);
         inst.fail();
     } else if mask & inst.state.bit() == 0 {
         let msg = format!("{func}: illegal call in state {}", name(inst.state));

@@ -79,12 +79,13 @@ const FMI3_NAMES: [(&str, &str); 20] = [
     ("fmi2DeSerializeFMUstate", "fmi3DeserializeFMUState"),
 ];
 
-/// `text` as an FMI 3.0 logger receives it: FMI 2.0 function and status names of the
-/// shared messages replaced by their FMI 3.0 names (whole identifiers only), and every
+/// `text` as an FMI 3.0 logger receives it: with `rename`, FMI 2.0 function and status
+/// names of the shared messages replaced by their FMI 3.0 names (whole identifiers
+/// only); in any case every
 /// `#` doubled, since FMI 3.0 reads `#<valueReference>#` in a message as a variable
 /// reference and `##` as one `#`.
-pub(crate) fn fmi3_text(text: &str) -> Cow<'_, str> {
-    if !text.contains("fmi2") && !text.contains('#') {
+pub(crate) fn fmi3_text(text: &str, rename: bool) -> Cow<'_, str> {
+    if !(rename && text.contains("fmi2")) && !text.contains('#') {
         return Cow::Borrowed(text);
     }
     let ident = |c: char| c.is_ascii_alphanumeric() || c == '_';
@@ -102,7 +103,7 @@ pub(crate) fn fmi3_text(text: &str) -> Cow<'_, str> {
         let word = &rest[..len.max(1)];
         let starts_word = !out.chars().next_back().is_some_and(ident);
         match FMI3_NAMES.iter().find(|(two, _)| *two == word) {
-            Some((_, three)) if starts_word => out.push_str(three),
+            Some((_, three)) if starts_word && rename => out.push_str(three),
             _ => out.push_str(word),
         }
         rest = &rest[word.len()..];
@@ -118,31 +119,37 @@ mod tests {
     #[test]
     fn fmi3_messages_name_fmi3_functions_and_escape_hashes() {
         assert_eq!(
-            fmi3_text("method is an Integer: set it with fmi2SetInteger"),
+            fmi3_text("method is an Integer: set it with fmi2SetInteger", true),
             "method is an Integer: set it with fmi3SetInt32"
         );
         assert_eq!(
-            fmi3_text("rho_inf is a fixed parameter: set it before fmi2ExitInitializationMode"),
+            fmi3_text(
+                "rho_inf is a fixed parameter: set it before fmi2ExitInitializationMode",
+                true
+            ),
             "rho_inf is a fixed parameter: set it before fmi3ExitInitializationMode"
         );
         // Whole identifiers only: a longer 2.0 name without a 3.0 counterpart stays.
         assert_eq!(
-            fmi3_text("fmi2SetRealInputDerivatives, fmi2SetReal."),
+            fmi3_text("fmi2SetRealInputDerivatives, fmi2SetReal.", true),
             "fmi2SetRealInputDerivatives, fmi3SetFloat64."
         );
-        assert_eq!(fmi3_text("xfmi2SetReal"), "xfmi2SetReal");
+        assert_eq!(fmi3_text("xfmi2SetReal", true), "xfmi2SetReal");
         assert_eq!(
-            fmi3_text("instance #1 of 100%s, node ##"),
+            fmi3_text("instance #1 of 100%s, node ##", true),
             "instance ##1 of 100%s, node ####"
         );
-        assert!(matches!(fmi3_text("plain text"), Cow::Borrowed(_)));
+        assert!(matches!(fmi3_text("plain text", true), Cow::Borrowed(_)));
+        // Left as written on request, '#' still escaped.
+        assert_eq!(fmi3_text("fmi2DoStep on #2", false), "fmi2DoStep on ##2");
+        assert!(matches!(fmi3_text("fmi2DoStep", false), Cow::Borrowed(_)));
         // Every entry is an FMI 2.0 name with an FMI 3.0 name.
         for (two, three) in FMI3_NAMES {
             assert!(
                 two.starts_with("fmi2") && three.starts_with("fmi3"),
                 "{two}"
             );
-            assert_eq!(fmi3_text(two), three);
+            assert_eq!(fmi3_text(two, true), three);
         }
     }
 

@@ -63,7 +63,12 @@ pub fn model_description(
         }
         x.push_str("  </UnitDefinitions>\n");
     }
-    x.push_str(&categories_and_experiment(scene, opts));
+    // FMI 3.0 calls logMessage only when loggingOn or fmi3SetDebugLogging asks, errors
+    // and warnings included.
+    x.push_str(&categories_and_experiment(scene, opts).replace(
+        " (always on)",
+        " (when loggingOn or fmi3SetDebugLogging switches logging on)",
+    ));
     x.push_str("  <ModelVariables>\n");
     let time_unit = if opts.units.is_some() {
         " unit=\"s\""

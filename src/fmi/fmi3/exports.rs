@@ -146,19 +146,37 @@ pub unsafe extern "C" fn fmi3InstantiateModelExchange(
     logMessage: fmi3LogMessageCallback,
 ) -> fmi3Instance {
     let _ = (instantiationToken, resourcePath, visible); // not needed: refused
+    // SAFETY: the caller's contract, passed on.
+    unsafe {
+        not_provided(
+            "fmi3InstantiateModelExchange",
+            instanceName,
+            (instanceEnvironment, logMessage, loggingOn),
+            "this FMU provides co-simulation only (its model description has no \
+             <ModelExchange> element): use fmi3InstantiateCoSimulation",
+        )
+    }
+}
+
+/// An instantiation function of an interface this FMU does not provide: NULL after
+/// logging `why` through `log` (environment, logMessage, loggingOn).
+///
+/// # Safety
+/// `instance_name` is NULL or NUL-terminated.
+unsafe fn not_provided(
+    func: &str,
+    instance_name: fmi3String,
+    log: (fmi3InstanceEnvironment, fmi3LogMessageCallback, bool),
+    why: &'static str,
+) -> fmi3Instance {
     // SAFETY: NUL-terminated or NULL (FMI contract).
-    let name = unsafe { text_arg(instanceName) };
+    let name = unsafe { text_arg(instance_name) };
     instantiate(
-        "fmi3InstantiateModelExchange",
+        func,
         V3,
         name,
-        |n| Log::new3(instanceEnvironment, logMessage, n, loggingOn),
-        || {
-            Err(FmiError::NotProvided(
-                "this FMU provides co-simulation only (its model description has no \
-                 <ModelExchange> element): use fmi3InstantiateCoSimulation",
-            ))
-        },
+        |n| Log::new3(log.0, log.1, n, log.2),
+        || Err(FmiError::NotProvided(why)),
     )
 }
 
@@ -188,20 +206,16 @@ pub unsafe extern "C" fn fmi3InstantiateScheduledExecution(
         lockPreemption,
         unlockPreemption,
     );
-    // SAFETY: NUL-terminated or NULL (FMI contract).
-    let name = unsafe { text_arg(instanceName) };
-    instantiate(
-        "fmi3InstantiateScheduledExecution",
-        V3,
-        name,
-        |n| Log::new3(instanceEnvironment, logMessage, n, loggingOn),
-        || {
-            Err(FmiError::NotProvided(
-                "this FMU provides co-simulation only (its model description has no \
-                 <ScheduledExecution> element): use fmi3InstantiateCoSimulation",
-            ))
-        },
-    )
+    // SAFETY: the caller's contract, passed on.
+    unsafe {
+        not_provided(
+            "fmi3InstantiateScheduledExecution",
+            instanceName,
+            (instanceEnvironment, logMessage, loggingOn),
+            "this FMU provides co-simulation only (its model description has no \
+             <ScheduledExecution> element): use fmi3InstantiateCoSimulation",
+        )
+    }
 }
 
 /// Free an instance (NULL is ignored).

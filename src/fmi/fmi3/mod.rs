@@ -12,6 +12,7 @@ pub mod clocks;
 pub mod exports;
 pub mod fmu_state;
 pub mod model_exchange;
+pub mod non_numeric;
 pub mod other_types;
 #[cfg(feature = "test-internals")]
 #[doc(hidden)]

@@ -26,6 +26,24 @@ fn refuse_time(inst: &Instance, vrs: &[u32], what: &'static str) -> Result<(), F
     }
 }
 
+/// FMI 3.0's checks of a typed get or set other than fmi3GetFloat64: `nValues`, and no
+/// `time` among the value references (`what` says why it cannot go there).
+///
+/// # Safety
+/// `vr` holds `n_refs` value references.
+unsafe fn no_time(
+    inst: &Instance,
+    vr: *const u32,
+    n_refs: usize,
+    n_values: usize,
+    what: &'static str,
+) -> Result<(), FmiError> {
+    scalars(n_refs, n_values)?;
+    // SAFETY: `vr` holds `n_refs` value references (the caller's contract).
+    let vrs = unsafe { slice(vr, n_refs, "valueReferences") }?;
+    refuse_time(inst, vrs, what)
+}
+
 /// Float64 values by value reference: outputs, parameters, inputs and `time`.
 ///
 /// # Safety
@@ -75,10 +93,16 @@ pub unsafe extern "C" fn fmi3SetFloat64(
     nValues: usize,
 ) -> fmi3Status {
     enter_as(instance, V3, "fmi3SetFloat64", state::SET, |inst| {
-        scalars(nValueReferences, nValues)?;
         // SAFETY: `valueReferences` holds `nValueReferences` elements.
-        let vrs = unsafe { slice(valueReferences, nValueReferences, "valueReferences") }?;
-        refuse_time(inst, vrs, "only fmi3DoStep advances it, it cannot be set")?;
+        unsafe {
+            no_time(
+                inst,
+                valueReferences,
+                nValueReferences,
+                nValues,
+                "only fmi3DoStep advances it, it cannot be set",
+            )
+        }?;
         // SAFETY: the caller's contract, passed on.
         unsafe { set_real_values(inst, valueReferences, nValueReferences, values) }
     })
@@ -98,10 +122,16 @@ pub unsafe extern "C" fn fmi3GetInt32(
     nValues: usize,
 ) -> fmi3Status {
     enter_as(instance, V3, "fmi3GetInt32", state::GET, |inst| {
-        scalars(nValueReferences, nValues)?;
         // SAFETY: `valueReferences` holds `nValueReferences` elements.
-        let vrs = unsafe { slice(valueReferences, nValueReferences, "valueReferences") }?;
-        refuse_time(inst, vrs, "a Float64, read it with fmi3GetFloat64")?;
+        unsafe {
+            no_time(
+                inst,
+                valueReferences,
+                nValueReferences,
+                nValues,
+                "a Float64, read it with fmi3GetFloat64",
+            )
+        }?;
         // SAFETY: the caller's contract, passed on.
         unsafe { integer_values(inst, valueReferences, nValueReferences, values) }
     })
@@ -121,10 +151,16 @@ pub unsafe extern "C" fn fmi3SetInt32(
     nValues: usize,
 ) -> fmi3Status {
     enter_as(instance, V3, "fmi3SetInt32", state::SET, |inst| {
-        scalars(nValueReferences, nValues)?;
         // SAFETY: `valueReferences` holds `nValueReferences` elements.
-        let vrs = unsafe { slice(valueReferences, nValueReferences, "valueReferences") }?;
-        refuse_time(inst, vrs, "a Float64 that only fmi3DoStep advances")?;
+        unsafe {
+            no_time(
+                inst,
+                valueReferences,
+                nValueReferences,
+                nValues,
+                "a Float64 that only fmi3DoStep advances",
+            )
+        }?;
         // SAFETY: the caller's contract, passed on.
         unsafe { set_integer_values(inst, valueReferences, nValueReferences, values) }
     })
