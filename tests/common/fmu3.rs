@@ -115,9 +115,13 @@ impl Slave3 {
     pub fn started(fx: &Packed, stop: Option<f64>) -> Slave3 {
         let s = Slave3::new(fx, "robust3");
         assert_eq!(s.enter_init(0.0, stop), fmi3OK, "{}", s.last_error());
-        // SAFETY: a live instance.
-        assert_eq!(unsafe { e::fmi3ExitInitializationMode(s.c) }, fmi3OK);
+        assert_eq!(s.exit_init(), fmi3OK);
         s
+    }
+
+    pub fn exit_init(&self) -> fmi3Status {
+        // SAFETY: a live instance.
+        unsafe { e::fmi3ExitInitializationMode(self.c) }
     }
 
     pub fn enter_init(&self, start: f64, stop: Option<f64>) -> fmi3Status {
