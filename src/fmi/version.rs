@@ -85,7 +85,7 @@ const FMI3_NAMES: [(&str, &str); 20] = [
 /// `#` doubled, since FMI 3.0 reads `#<valueReference>#` in a message as a variable
 /// reference and `##` as one `#`.
 pub(crate) fn fmi3_text(text: &str, rename: bool) -> Cow<'_, str> {
-    if !(rename && text.contains("fmi2")) && !text.contains('#') {
+    if !(text.contains('#') || (rename && text.contains("fmi2"))) {
         return Cow::Borrowed(text);
     }
     let ident = |c: char| c.is_ascii_alphanumeric() || c == '_';

@@ -260,12 +260,25 @@ pub(crate) fn unknowns(scene: &Scene, table: &VarTable) -> Vec<Unknown> {
 /// A variable's causality, variability and `initial` attribute (the last empty or with
 /// its leading blank), the same in both FMI versions: parameters fixed and exact,
 /// inputs continuous without `initial`, outputs continuous and calculated.
-pub(crate) fn causality_attributes(v: &Variable) -> (&'static str, &'static str, &'static str) {
+fn causality_attributes(v: &Variable) -> (&'static str, &'static str, &'static str) {
     match v.causality {
         Causality::Parameter => ("parameter", "fixed", " initial=\"exact\""),
         Causality::Input => ("input", "continuous", ""),
         Causality::Output => ("output", "continuous", " initial=\"calculated\""),
     }
+}
+
+/// A variable's name, value reference, description, causality, variability and
+/// `initial` attributes, the same in both FMI versions.
+pub(crate) fn variable_attributes(v: &Variable) -> String {
+    let (causality, variability, initial) = causality_attributes(v);
+    format!(
+        "name=\"{}\" valueReference=\"{}\" description=\"{}\" causality=\"{causality}\" \
+         variability=\"{variability}\"{initial}",
+        escape(&v.name),
+        v.vr,
+        escape(&v.description)
+    )
 }
 
 /// A Real (FMI 3.0: Float64) variable's `unit` and `start` attributes, each with its
@@ -327,15 +340,11 @@ pub fn model_description(
     }
     x.push_str("  <ModelVariables>\n");
     for (i, v) in table.vars.iter().enumerate() {
-        let (causality, variability, initial) = causality_attributes(v);
         let _ = writeln!(
             x,
-            "    <!-- Index {} -->\n    <ScalarVariable name=\"{}\" valueReference=\"{}\" description=\"{}\" \
-             causality=\"{causality}\" variability=\"{variability}\"{initial}>",
+            "    <!-- Index {} -->\n    <ScalarVariable {}>",
             i + 1,
-            escape(&v.name),
-            v.vr,
-            escape(&v.description)
+            variable_attributes(v)
         );
         if v.kind == Kind::Method {
             // An Integer, not an Enumeration: libcosim and ecos ignore Enumeration

@@ -13,8 +13,8 @@ use super::fmi_version::FmiVersion;
 use super::options::SceneOptions;
 use super::vars::{Kind, VarTable, method_range};
 use super::xml::{
-    body_description, categories_and_experiment, causality_attributes, escape, real_attributes,
-    unit_element, units_used, unknowns,
+    body_description, categories_and_experiment, escape, real_attributes, unit_element, units_used,
+    unknowns, variable_attributes,
 };
 use crate::scene::Scene;
 
@@ -82,14 +82,7 @@ pub fn model_description(
         table.time_ref()
     );
     for v in &table.vars {
-        let (causality, variability, initial) = causality_attributes(v);
-        let common = format!(
-            "name=\"{}\" valueReference=\"{}\" description=\"{}\" causality=\"{causality}\" \
-             variability=\"{variability}\"{initial}",
-            escape(&v.name),
-            v.vr,
-            escape(&v.description)
-        );
+        let common = variable_attributes(v);
         if v.kind == Kind::Method {
             // An Int32 with min and max, as FMI 2.0's Integer (see super::xml).
             let (lo, hi) = method_range();

@@ -178,10 +178,8 @@ impl Slave3 {
     pub fn serialize(&self, s: fmi3FMUState) -> Vec<u8> {
         let mut n = 0usize;
         // SAFETY: live state, writable size.
-        assert_eq!(
-            unsafe { fs::fmi3SerializedFMUStateSize(self.c, s, &mut n) },
-            fmi3OK
-        );
+        let st = unsafe { fs::fmi3SerializedFMUStateSize(self.c, s, &mut n) };
+        assert_eq!(st, fmi3OK);
         let mut buf = vec![0u8; n];
         // SAFETY: `buf` holds `n` writable bytes.
         let st = unsafe { fs::fmi3SerializeFMUState(self.c, s, buf.as_mut_ptr(), n) };

@@ -303,10 +303,8 @@ fn fmi3_logging_respects_logging_on_and_escapes_hashes() {
         s.messages()
     );
     // SAFETY: a live instance, no categories (all).
-    assert_eq!(
-        unsafe { fmi3SetDebugLogging(s.c, true, 0, std::ptr::null()) },
-        fmi3OK
-    );
+    let st = unsafe { fmi3SetDebugLogging(s.c, true, 0, std::ptr::null()) };
+    assert_eq!(st, fmi3OK);
     assert_eq!(s.step(0.0, H).0, fmi3Error);
     let m = s.messages();
     let e = m
