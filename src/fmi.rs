@@ -1,10 +1,13 @@
-//! The FMI 2.0 co-simulation C ABI: types, the call-sequence state machine, logging,
-//! the panic barrier and the 34 exports. The only module of the product with `unsafe`
-//! and raw pointers (the workspace denies `unsafe_code` everywhere else). The importer
-//! side, loading a packed FMU's library, is the `fxbody-host` package (crates/host).
+//! The FMI C ABI, FMI 2.0 and FMI 3.0 co-simulation from one library: types, the
+//! call-sequence state machines, logging, the panic barrier, FMI 2.0's 34 exports and
+//! FMI 3.0's 75 ([`fmi3`]), the versions' differences in small adapters ([`version`]).
+//! The only module of the product with `unsafe` and raw pointers (the workspace denies
+//! `unsafe_code` everywhere else). The importer side, loading a packed FMU's library, is
+//! the `fxbody-host` package (crates/host).
 //!
-//! Public to a library user: the C types ([`types`]) and the exported `fmi2*` functions
-//! ([`exports`], [`values`], [`fmu_state`]), which are the C ABI itself, callable from
+//! Public to a library user: the C types ([`types`], [`fmi3::types`]) and the exported
+//! `fmi2*` functions ([`exports`], [`values`], [`fmu_state`]) and `fmi3*` functions
+//! ([`fmi3`]), which are the C ABI itself, callable from
 //! Rust with the same contracts as from C (include/fxbody.h). The exports are in the
 //! cdylib's symbol table whatever the visibility (`#[unsafe(no_mangle)]`).
 //! `state` and `instance` are internals: private to the crate, and opened only by the
@@ -17,12 +20,14 @@
 
 mod error;
 pub mod exports;
+pub mod fmi3;
 pub mod fmu_state;
 #[cfg(feature = "test-internals")]
 #[doc(hidden)]
 pub mod instance;
 #[cfg(not(feature = "test-internals"))]
 mod instance;
+mod instantiate;
 #[cfg(feature = "test-internals")]
 #[doc(hidden)]
 pub mod state;
@@ -31,6 +36,7 @@ mod state;
 pub mod types;
 mod uri;
 pub mod values;
+pub mod version;
 
 pub use error::FmiError;
 

@@ -2,6 +2,7 @@
 //! packaging the `.fmu` archive. Safe Rust only; the C ABI is in [`crate::fmi`].
 
 pub mod doc;
+pub mod fmi_version;
 pub mod guard;
 pub mod hash;
 pub mod header;
@@ -15,4 +16,5 @@ pub mod snapshot;
 mod time;
 pub mod vars;
 pub mod xml;
+pub mod xml3;
 pub mod zip;

@@ -80,6 +80,38 @@ pub enum FmiError {
     /// A serialised state for another number of inputs.
     #[error("serialized state has a different number of inputs than this FMU")]
     StateInputs,
+    /// fmi3Instantiate* without a resource path.
+    #[error("resourcePath is NULL: the FMU needs its resources folder")]
+    NoResourcePath,
+    /// An FMI 3.0 resource path that is not absolute.
+    #[error(
+        "resourcePath '{0}' is not an absolute path (FMI 3.0 passes the absolute path of \
+         the FMU's resources folder, with a trailing separator)"
+    )]
+    RelativeResourcePath(String),
+    /// A call this FMU does not provide (the text says what and which flag declares it).
+    #[error("{0}")]
+    NotProvided(&'static str),
+    /// An FMI 3.0 getter or setter whose nValues is not its number of value references
+    /// (every variable of this FMU is a scalar).
+    #[error(
+        "nValues is {n_values} but the {n_refs} value references name {n_refs} scalar \
+         values (this FMU has no array variables)"
+    )]
+    NValues {
+        /// nValues as passed.
+        n_values: usize,
+        /// nValueReferences.
+        n_refs: usize,
+    },
+    /// FMI 3.0's independent variable where it cannot go.
+    #[error("value reference {vr} is the independent variable time: {what}")]
+    TimeVariable {
+        /// Its value reference.
+        vr: u32,
+        /// Why it cannot go there.
+        what: &'static str,
+    },
     /// A state handle this instance cannot use.
     #[error(transparent)]
     Handle(#[from] HandleError),

@@ -8,14 +8,14 @@
 #![allow(non_snake_case, clippy::missing_safety_doc)]
 
 use std::ffi::c_char;
-use std::panic::{AssertUnwindSafe, catch_unwind};
 
 use super::FmiError;
 use super::instance::*;
+use super::instantiate::{free_instance, instantiate};
 use super::state::{self, FmiState};
 use super::types::*;
 use super::uri::resource_path;
-use crate::fmu::simulation::Simulation;
+use super::version::FmiVersion;
 
 /// "default": the standard C types of fmi2TypesPlatform.h.
 #[unsafe(no_mangle)]
@@ -41,30 +41,45 @@ pub unsafe extern "C" fn fmi2SetDebugLogging(
     categories: *const fmi2String,
 ) -> fmi2Status {
     enter(c, "fmi2SetDebugLogging", state::SET_DEBUG_LOGGING, |inst| {
-        let on = loggingOn != fmi2False;
-        // SAFETY: `categories` holds `nCategories` pointers (FMI contract).
-        let names = unsafe { slice(categories, nCategories, "categories") }?;
-        if names.is_empty() {
-            inst.log.enabled = [on; CATEGORIES.len()];
-            return Ok(fmi2OK);
-        }
-        for &p in names {
-            // SAFETY: each entry is a NUL-terminated string (FMI contract).
-            let name = unsafe { text_arg(p) }.ok_or(FmiError::Null("a category name"))?;
-            let k = CATEGORIES
-                .iter()
-                .position(|c| c.to_bytes() == name.as_bytes())
-                .ok_or_else(|| {
-                    let known: Vec<_> = CATEGORIES.iter().map(|c| c.to_string_lossy()).collect();
-                    FmiError::UnknownCategory {
-                        name: name.clone(),
-                        declared: known.join(", "),
-                    }
-                })?;
-            inst.log.enabled[k] = on;
-        }
-        Ok(fmi2OK)
+        // SAFETY: the caller's contract, passed on.
+        unsafe { set_debug_logging(inst, loggingOn != fmi2False, nCategories, categories) }
     })
+}
+
+/// The body of fmi2SetDebugLogging and fmi3SetDebugLogging: all categories (n = 0) or
+/// the named ones, on or off; an unknown name refuses the call, naming the declared
+/// ones.
+///
+/// # Safety
+/// `categories` holds `n` NUL-terminated strings (unread for n = 0).
+pub(crate) unsafe fn set_debug_logging(
+    inst: &mut Instance,
+    on: bool,
+    n: usize,
+    categories: *const *const c_char,
+) -> Outcome {
+    // SAFETY: `categories` holds `n` pointers (FMI contract).
+    let names = unsafe { slice(categories, n, "categories") }?;
+    if names.is_empty() {
+        inst.log.enabled = [on; CATEGORIES.len()];
+        return Ok(fmi2OK);
+    }
+    for &p in names {
+        // SAFETY: each entry is a NUL-terminated string (FMI contract).
+        let name = unsafe { text_arg(p) }.ok_or(FmiError::Null("a category name"))?;
+        let k = CATEGORIES
+            .iter()
+            .position(|c| c.to_bytes() == name.as_bytes())
+            .ok_or_else(|| {
+                let known: Vec<_> = CATEGORIES.iter().map(|c| c.to_string_lossy()).collect();
+                FmiError::UnknownCategory {
+                    name: name.clone(),
+                    declared: known.join(", "),
+                }
+            })?;
+        inst.log.enabled[k] = on;
+    }
+    Ok(fmi2OK)
 }
 
 /// Create an instance: copy the arguments, decode the resource URI, read the body and
@@ -95,82 +110,20 @@ pub unsafe extern "C" fn fmi2Instantiate(
     let guid = unsafe { text_arg(fmuGUID) };
     // SAFETY: as above.
     let location = unsafe { text_arg(fmuResourceLocation) };
-    let log = Log::new(
-        &functions,
-        name.as_deref().unwrap_or(""),
-        loggingOn != fmi2False,
-    );
-    // A body whose rigid part does not turn with it (body::invariance): logged as a
-    // warning once the instance exists.
-    let mut warning = None;
-    let result = catch_unwind(AssertUnwindSafe(|| -> Result<Box<Instance>, FmiError> {
-        if name.as_deref().is_none_or(str::is_empty) {
-            return Err(FmiError::NoInstanceName);
-        }
-        if fmuType != fmi2CoSimulation {
-            return Err(FmiError::FmuType(fmuType));
-        }
-        let guid = guid.ok_or(FmiError::Null("fmuGUID"))?;
-        let location = location.ok_or(FmiError::NoResourceLocation)?;
-        let dir = resource_path(&location)?;
-        let simulation = Simulation::from_resources(&dir)?;
-        let scene_file = dir.join(crate::scene::io::SCENE_FILE).display().to_string();
-        warning = crate::body::invariance::check(&simulation.scene().body, &scene_file);
-        if simulation.guid != guid {
-            return Err(FmiError::GuidMismatch {
-                given: guid,
-                dir,
-                found: simulation.guid,
-            });
-        }
-        Ok(Box::new(Instance {
-            log: Log::new(
-                &functions,
-                name.as_deref().unwrap_or(""),
-                loggingOn != fmi2False,
-            ),
-            state: FmiState::Instantiated,
-            before_error: FmiState::Instantiated,
-            simulation,
-        }))
-    }));
-    match result {
-        Ok(Ok(inst)) => {
-            if let Some(w) = &warning {
-                inst.log
-                    .send(fmi2Warning, LOG_WARNING, &format!("fmi2Instantiate: {w}"));
+    instantiate(
+        "fmi2Instantiate",
+        FmiVersion::Fmi2,
+        name,
+        |n| Log::new(&functions, n, loggingOn != fmi2False),
+        || {
+            if fmuType != fmi2CoSimulation {
+                return Err(FmiError::FmuType(fmuType));
             }
-            if inst.log.on(LOG_SOLVER) {
-                let m = &inst.simulation;
-                inst.log.send(
-                    fmi2OK,
-                    LOG_SOLVER,
-                    &format!(
-                        "instantiated: {}, {}, {}",
-                        crate::num::count(m.table.vars.len(), "variable"),
-                        crate::num::count(m.scene().nodes.len(), "exposed node"),
-                        crate::num::count(m.scene().body.nl(), "local mode")
-                    ),
-                );
-            }
-            Box::into_raw(inst).cast()
-        }
-        Ok(Err(msg)) => {
-            log.send(fmi2Error, LOG_ERROR, &format!("fmi2Instantiate: {msg}"));
-            std::ptr::null_mut()
-        }
-        Err(p) => {
-            log.send(
-                fmi2Fatal,
-                LOG_ERROR,
-                &format!(
-                    "fmi2Instantiate: internal error (panic): {}",
-                    panic_text(&*p)
-                ),
-            );
-            std::ptr::null_mut()
-        }
-    }
+            let guid = guid.ok_or(FmiError::Null("fmuGUID"))?;
+            let location = location.ok_or(FmiError::NoResourceLocation)?;
+            Ok((guid, resource_path(&location)?))
+        },
+    )
 }
 
 /// Free an instance (NULL is ignored).
@@ -179,12 +132,8 @@ pub unsafe extern "C" fn fmi2Instantiate(
 /// `c` is NULL or an instance from fmi2Instantiate not yet freed.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2FreeInstance(c: fmi2Component) {
-    if c.is_null() {
-        return;
-    }
-    // SAFETY: `c` came from Box::into_raw in fmi2Instantiate and is freed only here.
-    let inst = unsafe { Box::from_raw(c.cast::<Instance>()) };
-    let _ = catch_unwind(AssertUnwindSafe(move || drop(inst)));
+    // SAFETY: the caller's contract, passed on.
+    unsafe { free_instance(c) }
 }
 
 /// Record start and stop time (tolerance is not used: every method is fixed-step).
@@ -217,6 +166,41 @@ fn build_solver(inst: &mut Instance) -> Result<(), FmiError> {
     Ok(())
 }
 
+/// Into initialisation mode, the solver built with the parameters set so far (both
+/// versions).
+pub(crate) fn enter_initialization(inst: &mut Instance) -> Outcome {
+    build_solver(inst)?;
+    inst.state = FmiState::InitializationMode;
+    Ok(fmi2OK)
+}
+
+/// Out of initialisation mode, ready to step (the solver rebuilt if a parameter
+/// changed; both versions).
+pub(crate) fn exit_initialization(inst: &mut Instance) -> Outcome {
+    build_solver(inst)?;
+    inst.state = FmiState::StepComplete;
+    Ok(fmi2OK)
+}
+
+/// Back to the instantiated state with start values (both versions).
+pub(crate) fn reset(inst: &mut Instance) -> Outcome {
+    inst.simulation.reset();
+    inst.state = FmiState::Instantiated;
+    Ok(fmi2OK)
+}
+
+/// One communication step of `func` (both versions): a warning the step raised is
+/// logged and returned as Warning.
+#[inline(always)]
+pub(crate) fn do_step(inst: &mut Instance, func: &str, t: f64, h: f64) -> Outcome {
+    let warned = inst.simulation.step(t, h)?;
+    Ok(if warned {
+        step_warning(inst, func)
+    } else {
+        fmi2OK
+    })
+}
+
 /// Enter initialisation mode: the solver is built with the parameters set so far.
 ///
 /// # Safety
@@ -227,11 +211,7 @@ pub unsafe extern "C" fn fmi2EnterInitializationMode(c: fmi2Component) -> fmi2St
         c,
         "fmi2EnterInitializationMode",
         state::ENTER_INITIALIZATION_MODE,
-        |inst| {
-            build_solver(inst)?;
-            inst.state = FmiState::InitializationMode;
-            Ok(fmi2OK)
-        },
+        enter_initialization,
     )
 }
 
@@ -245,11 +225,7 @@ pub unsafe extern "C" fn fmi2ExitInitializationMode(c: fmi2Component) -> fmi2Sta
         c,
         "fmi2ExitInitializationMode",
         state::EXIT_INITIALIZATION_MODE,
-        |inst| {
-            build_solver(inst)?;
-            inst.state = FmiState::StepComplete;
-            Ok(fmi2OK)
-        },
+        exit_initialization,
     )
 }
 
@@ -271,11 +247,7 @@ pub unsafe extern "C" fn fmi2Terminate(c: fmi2Component) -> fmi2Status {
 /// `c` is an instance from fmi2Instantiate.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2Reset(c: fmi2Component) -> fmi2Status {
-    enter(c, "fmi2Reset", state::RESET, |inst| {
-        inst.simulation.reset();
-        inst.state = FmiState::Instantiated;
-        Ok(fmi2OK)
-    })
+    enter(c, "fmi2Reset", state::RESET, reset)
 }
 
 /// Advance from `currentCommunicationPoint` by `communicationStepSize` (synchronous).
@@ -291,20 +263,22 @@ pub unsafe extern "C" fn fmi2DoStep(
 ) -> fmi2Status {
     let _ = noSetFMUStatePriorToCurrentPoint; // not needed by this FMU
     enter(c, "fmi2DoStep", state::DO_STEP, |inst| {
-        let warned = inst
-            .simulation
-            .step(currentCommunicationPoint, communicationStepSize)?;
-        Ok(if warned { step_warning(inst) } else { fmi2OK })
+        do_step(
+            inst,
+            "fmi2DoStep",
+            currentCommunicationPoint,
+            communicationStepSize,
+        )
     })
 }
 
-/// A completed step with a warning: logged, fmi2Warning. Out of the step path.
+/// A completed step with a warning: logged, Warning. Out of the step path.
 #[cold]
 #[inline(never)]
-fn step_warning(inst: &mut Instance) -> fmi2Status {
+fn step_warning(inst: &mut Instance, func: &str) -> fmi2Status {
     let warning = inst.simulation.take_warning().unwrap_or_default();
     inst.log
-        .send(fmi2Warning, LOG_WARNING, &format!("fmi2DoStep: {warning}"));
+        .send(fmi2Warning, LOG_WARNING, &format!("{func}: {warning}"));
     fmi2Warning
 }
 

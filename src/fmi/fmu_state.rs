@@ -193,13 +193,22 @@ fn snapshot_of(inst: &Instance) -> Snapshot {
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2GetFMUstate(c: fmi2Component, state: *mut fmi2FMUstate) -> fmi2Status {
     enter(c, "fmi2GetFMUstate", state::GET_FMU_STATE, |inst| {
-        if state.is_null() {
-            return Err(FmiError::Null("FMUstate pointer"));
-        }
-        let snap = snapshot_of(inst);
-        // SAFETY: non-null and writable (FMI contract).
-        unsafe { store_state(state, snap, &inst.simulation.guid) }
+        // SAFETY: the caller's contract, passed on.
+        unsafe { save_state(inst, state) }
     })
+}
+
+/// The body of fmi2GetFMUstate and fmi3GetFMUState.
+///
+/// # Safety
+/// `state` points to a writable handle that is NULL or was returned by this library.
+pub(crate) unsafe fn save_state(inst: &mut Instance, state: *mut fmi2FMUstate) -> Outcome {
+    if state.is_null() {
+        return Err(FmiError::Null("FMUstate pointer"));
+    }
+    let snap = snapshot_of(inst);
+    // SAFETY: non-null and writable (FMI contract).
+    unsafe { store_state(state, snap, &inst.simulation.guid) }
 }
 
 /// Write `snap` into `*state`: a new handle for NULL, else the existing handle (checked
@@ -238,12 +247,19 @@ fn restore(inst: &mut Instance, snap: &Snapshot) -> Outcome {
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2SetFMUstate(c: fmi2Component, state: fmi2FMUstate) -> fmi2Status {
     enter(c, "fmi2SetFMUstate", state::SET_FMU_STATE, |inst| {
-        // SAFETY: `state` is a live state (FMI contract); its header is checked first.
-        let snap = unsafe { handle(state, &inst.simulation.guid) }?
-            .snap
-            .clone();
-        restore(inst, &snap)
+        // SAFETY: the caller's contract, passed on.
+        unsafe { restore_state(inst, state) }
     })
+}
+
+/// The body of fmi2SetFMUstate and fmi3SetFMUState.
+///
+/// # Safety
+/// `state` is NULL or a live state handle.
+pub(crate) unsafe fn restore_state(inst: &mut Instance, state: fmi2FMUstate) -> Outcome {
+    // SAFETY: `state` is a live state (FMI contract); its header is checked first.
+    let snap = unsafe { handle(state, &inst.simulation.guid) }?.snap.clone();
+    restore(inst, &snap)
 }
 
 /// Free a saved state and set `*state` to NULL.
@@ -256,23 +272,32 @@ pub unsafe extern "C" fn fmi2FreeFMUstate(
     state: *mut fmi2FMUstate,
 ) -> fmi2Status {
     enter(c, "fmi2FreeFMUstate", state::SET_FMU_STATE, |inst| {
-        if state.is_null() {
-            return Ok(fmi2OK);
-        }
-        // SAFETY: `state` is writable (FMI contract).
-        let s = unsafe { *state };
-        if s.is_null() {
-            return Ok(fmi2OK);
-        }
-        // SAFETY: a live handle (FMI contract); checked to be this build's for this FMU,
-        // so it is a Box<Handle> made here, freed once as `*state` is then cleared.
-        unsafe {
-            let h: *mut Handle = handle(s, &inst.simulation.guid)?;
-            drop(Box::from_raw(h));
-            *state = std::ptr::null_mut();
-        }
-        Ok(fmi2OK)
+        // SAFETY: the caller's contract, passed on.
+        unsafe { free_state(inst, state) }
     })
+}
+
+/// The body of fmi2FreeFMUstate and fmi3FreeFMUState.
+///
+/// # Safety
+/// `state` is NULL or points to NULL or a live state handle.
+pub(crate) unsafe fn free_state(inst: &mut Instance, state: *mut fmi2FMUstate) -> Outcome {
+    if state.is_null() {
+        return Ok(fmi2OK);
+    }
+    // SAFETY: `state` is writable (FMI contract).
+    let s = unsafe { *state };
+    if s.is_null() {
+        return Ok(fmi2OK);
+    }
+    // SAFETY: a live handle (FMI contract); checked to be this build's for this FMU, so
+    // it is a Box<Handle> made here, freed once as `*state` is then cleared.
+    unsafe {
+        let h: *mut Handle = handle(s, &inst.simulation.guid)?;
+        drop(Box::from_raw(h));
+        *state = std::ptr::null_mut();
+    }
+    Ok(fmi2OK)
 }
 
 /// Size in bytes of a state's serialised form.
@@ -289,18 +314,29 @@ pub unsafe extern "C" fn fmi2SerializedFMUstateSize(
         c,
         "fmi2SerializedFMUstateSize",
         state::GET_FMU_STATE,
-        |inst| {
-            // SAFETY: `state` is a live state; its header is checked first.
-            let snap = &unsafe { handle(state, &inst.simulation.guid) }?.snap;
-            if size.is_null() {
-                return Err(FmiError::Null("size pointer"));
-            }
-            let n = snap.to_bytes(&inst.simulation.guid).len();
-            // SAFETY: non-null and writable (FMI contract).
-            unsafe { *size = n };
-            Ok(fmi2OK)
-        },
+        // SAFETY: the caller's contract, passed on.
+        |inst| unsafe { state_size(inst, state, size) },
     )
+}
+
+/// The body of fmi2SerializedFMUstateSize and fmi3SerializedFMUStateSize.
+///
+/// # Safety
+/// `state` is NULL or a live state handle; `size` is NULL or writable.
+pub(crate) unsafe fn state_size(
+    inst: &mut Instance,
+    state: fmi2FMUstate,
+    size: *mut usize,
+) -> Outcome {
+    // SAFETY: `state` is a live state; its header is checked first.
+    let snap = &unsafe { handle(state, &inst.simulation.guid) }?.snap;
+    if size.is_null() {
+        return Err(FmiError::Null("size pointer"));
+    }
+    let n = snap.to_bytes(&inst.simulation.guid).len();
+    // SAFETY: non-null and writable (FMI contract).
+    unsafe { *size = n };
+    Ok(fmi2OK)
 }
 
 /// Serialise a state into `serializedState` (`size` bytes, from
@@ -316,20 +352,34 @@ pub unsafe extern "C" fn fmi2SerializeFMUstate(
     size: usize,
 ) -> fmi2Status {
     enter(c, "fmi2SerializeFMUstate", state::GET_FMU_STATE, |inst| {
-        // SAFETY: `state` is a live state; its header is checked first.
-        let snap = &unsafe { handle(state, &inst.simulation.guid) }?.snap;
-        let bytes = snap.to_bytes(&inst.simulation.guid);
-        if size != bytes.len() {
-            return Err(FmiError::BufferTooSmall {
-                size,
-                needs: bytes.len(),
-            });
-        }
-        // SAFETY: `serializedState` holds `size` writable bytes.
-        let out = unsafe { slice_mut(serializedState.cast::<u8>(), size, "serializedState") }?;
-        out.copy_from_slice(&bytes);
-        Ok(fmi2OK)
+        // SAFETY: the caller's contract, passed on.
+        unsafe { serialize_state(inst, state, serializedState.cast(), size) }
     })
+}
+
+/// The body of fmi2SerializeFMUstate and fmi3SerializeFMUState.
+///
+/// # Safety
+/// `state` is NULL or a live state handle; `out` holds `size` writable bytes.
+pub(crate) unsafe fn serialize_state(
+    inst: &mut Instance,
+    state: fmi2FMUstate,
+    out: *mut u8,
+    size: usize,
+) -> Outcome {
+    // SAFETY: `state` is a live state; its header is checked first.
+    let snap = &unsafe { handle(state, &inst.simulation.guid) }?.snap;
+    let bytes = snap.to_bytes(&inst.simulation.guid);
+    if size != bytes.len() {
+        return Err(FmiError::BufferTooSmall {
+            size,
+            needs: bytes.len(),
+        });
+    }
+    // SAFETY: `out` holds `size` writable bytes.
+    let out = unsafe { slice_mut(out, size, "serializedState") }?;
+    out.copy_from_slice(&bytes);
+    Ok(fmi2OK)
 }
 
 /// Read a serialised state; foreign or damaged bytes are refused with a message.
@@ -345,16 +395,30 @@ pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
     state: *mut fmi2FMUstate,
 ) -> fmi2Status {
     enter(c, "fmi2DeSerializeFMUstate", state::SET_FMU_STATE, |inst| {
-        // SAFETY: `serializedState` holds `size` bytes.
-        let bytes = unsafe { slice(serializedState.cast::<u8>(), size, "serializedState") }?;
-        if state.is_null() {
-            return Err(FmiError::Null("FMUstate pointer"));
-        }
-        let snap = Snapshot::from_bytes(bytes, &inst.simulation.guid)?;
-        if snap.loads.len() != 6 * inst.simulation.scene().nodes.len() {
-            return Err(FmiError::StateInputs);
-        }
-        // SAFETY: `state` is non-null and writable, `*state` NULL or live (FMI contract).
-        unsafe { store_state(state, snap, &inst.simulation.guid) }
+        // SAFETY: the caller's contract, passed on.
+        unsafe { deserialize_state(inst, serializedState.cast(), size, state) }
     })
+}
+
+/// The body of fmi2DeSerializeFMUstate and fmi3DeserializeFMUState.
+///
+/// # Safety
+/// `bytes` holds `size` bytes; `state` is NULL or points to NULL or a live state.
+pub(crate) unsafe fn deserialize_state(
+    inst: &mut Instance,
+    bytes: *const u8,
+    size: usize,
+    state: *mut fmi2FMUstate,
+) -> Outcome {
+    // SAFETY: `bytes` holds `size` bytes.
+    let bytes = unsafe { slice(bytes, size, "serializedState") }?;
+    if state.is_null() {
+        return Err(FmiError::Null("FMUstate pointer"));
+    }
+    let snap = Snapshot::from_bytes(bytes, &inst.simulation.guid)?;
+    if snap.loads.len() != 6 * inst.simulation.scene().nodes.len() {
+        return Err(FmiError::StateInputs);
+    }
+    // SAFETY: `state` is non-null and writable, `*state` NULL or live (FMI contract).
+    unsafe { store_state(state, snap, &inst.simulation.guid) }
 }

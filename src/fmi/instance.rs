@@ -1,13 +1,16 @@
-//! One FMU instance behind an `fmi2Component`: the copied callbacks and name, the
-//! logging switches, the FMI state, and the model. Also the entry wrapper every export
-//! goes through: null check, state mask, panic barrier, error logging.
+//! One FMU instance behind an `fmi2Component` or an `fmi3Instance`: the copied callbacks
+//! and name, the logging switches, the FMI version and state, and the model. Also the
+//! entry wrapper every export of either version goes through: null check, version and
+//! state mask, panic barrier, error logging.
 
 use std::ffi::{CStr, CString, c_char};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
 use super::FmiError;
+use super::fmi3::types::{fmi3InstanceEnvironment, fmi3LogMessageCallback};
 use super::state::FmiState;
 use super::types::*;
+use super::version::{FmiVersion, Interface, fmi3_text, state_name};
 use crate::fmu::simulation::Simulation;
 
 /// Log categories, in the order of `crate::fmu::xml::LOG_CATEGORIES` (a test checks).
@@ -26,53 +29,111 @@ pub const LOG_CALLS: usize = 2;
 /// Index of logSolver.
 pub const LOG_SOLVER: usize = 3;
 
+/// The master's logger, as each version declares it.
+#[derive(Clone, Copy)]
+enum Logger {
+    /// FMI 2.0: C-variadic, printf-style, with the instance name.
+    Fmi2(fmi2CallbackLogger),
+    /// FMI 3.0: four fixed arguments, the message as text.
+    Fmi3(fmi3LogMessageCallback),
+}
+
 /// Where log messages go: the master's logger and environment, and the instance name,
 /// all copied at instantiation.
 pub struct Log {
-    logger: fmi2CallbackLogger,
+    logger: Logger,
     env: fmi2ComponentEnvironment,
     name: CString,
-    /// Debug categories switched on (errors and warnings are always passed on).
+    /// Errors and warnings are passed on whatever `enabled` says (FMI 2.0); FMI 3.0
+    /// calls no logger at all unless loggingOn or fmi3SetDebugLogging asks for it.
+    always_errors: bool,
+    /// Categories switched on (for FMI 2.0, the debug categories).
     pub enabled: [bool; CATEGORIES.len()],
 }
 
 impl Log {
-    /// A log over the master's callbacks; `debug` switches every category on.
+    /// A log over an FMI 2.0 master's callbacks; `debug` switches every category on.
     pub fn new(functions: &fmi2CallbackFunctions, name: &str, debug: bool) -> Log {
         Log {
-            logger: functions.logger,
+            logger: Logger::Fmi2(functions.logger),
             env: functions.componentEnvironment,
             name: c_text(name),
+            always_errors: true,
             enabled: [debug; CATEGORIES.len()],
+        }
+    }
+
+    /// A log over an FMI 3.0 master's logMessage; `logging_on` switches every category
+    /// on, and without it nothing is logged until fmi3SetDebugLogging switches
+    /// categories on (FMI 3.0: "If loggingOn == fmi3False, then any logging is disabled
+    /// and the logMessage callback function is not called by the FMU").
+    pub fn new3(
+        env: fmi3InstanceEnvironment,
+        logger: fmi3LogMessageCallback,
+        name: &str,
+        logging_on: bool,
+    ) -> Log {
+        Log {
+            logger: Logger::Fmi3(logger),
+            env,
+            name: c_text(name),
+            always_errors: false,
+            enabled: [logging_on; CATEGORIES.len()],
         }
     }
 
     /// Whether category `cat` would be passed on.
     pub fn on(&self, cat: usize) -> bool {
-        cat <= LOG_WARNING || self.enabled[cat]
+        (self.always_errors && cat <= LOG_WARNING) || self.enabled[cat]
     }
 
-    /// Send `text` to the logger (if any and if the category is on).
+    /// Send `text` to the logger (if any and if the category is on). An FMI 3.0 logger
+    /// reads the shared layers' FMI 2.0 function names as their FMI 3.0 names.
     pub fn send(&self, status: fmi2Status, cat: usize, text: &str) {
+        self.emit(status, cat, text, true);
+    }
+
+    /// [`Log::send`] with the function names left as written (a message about a call of
+    /// the other version's function).
+    pub fn send_verbatim(&self, status: fmi2Status, cat: usize, text: &str) {
+        self.emit(status, cat, text, false);
+    }
+
+    fn emit(&self, status: fmi2Status, cat: usize, text: &str, rename: bool) {
         if !self.on(cat) {
             return;
         }
-        let Some(logger) = self.logger else { return };
-        let msg = c_text(text);
-        // SAFETY: `logger` is the master's function pointer, valid for the instance's
-        // life (FMI 2.0: callbacks stay valid until fmi2FreeInstance). All pointers
-        // passed are NUL-terminated strings that outlive the call. The format is "%s"
-        // with exactly one char* argument, so printf-style handling in the logger reads
-        // exactly what we pass whatever the text holds.
-        unsafe {
-            logger(
-                self.env,
-                self.name.as_ptr(),
-                status,
-                CATEGORIES[cat].as_ptr(),
-                c"%s".as_ptr(),
-                msg.as_ptr(),
-            );
+        match self.logger {
+            Logger::Fmi2(Some(logger)) => {
+                let msg = c_text(text);
+                // SAFETY: `logger` is the master's function pointer, valid for the
+                // instance's life (FMI 2.0: callbacks stay valid until
+                // fmi2FreeInstance). All pointers passed are NUL-terminated strings that
+                // outlive the call. The format is "%s" with exactly one char* argument,
+                // so printf-style handling in the logger reads exactly what we pass
+                // whatever the text holds.
+                unsafe {
+                    logger(
+                        self.env,
+                        self.name.as_ptr(),
+                        status,
+                        CATEGORIES[cat].as_ptr(),
+                        c"%s".as_ptr(),
+                        msg.as_ptr(),
+                    );
+                }
+            }
+            Logger::Fmi3(Some(logger)) => {
+                // FMI 3.0's logger has no instance name: the message starts with it.
+                let name = self.name.to_string_lossy();
+                let msg = c_text(&fmi3_text(&format!("{name}: {text}"), rename));
+                // SAFETY: `logger` is the master's logMessage, valid for the instance's
+                // life (FMI 3.0: callbacks stay valid until fmi3FreeInstance), called with
+                // its four declared arguments (not variadic); the strings are
+                // NUL-terminated and outlive the call.
+                unsafe { logger(self.env, status, CATEGORIES[cat].as_ptr(), msg.as_ptr()) }
+            }
+            Logger::Fmi2(None) | Logger::Fmi3(None) => {}
         }
     }
 }
@@ -98,6 +159,11 @@ pub unsafe fn text_arg(p: *const c_char) -> Option<String> {
 pub struct Instance {
     /// The log.
     pub log: Log,
+    /// The FMI version whose instantiation function made the instance: only that
+    /// version's functions may be called on it ([`enter_as`]).
+    pub version: FmiVersion,
+    /// The interface it serves.
+    pub interface: Interface,
     /// FMI state.
     pub state: FmiState,
     /// The state the instance was in when it last entered the Error state. In Error the
@@ -134,14 +200,28 @@ impl Instance {
 /// returned).
 pub type Outcome = Result<fmi2Status, FmiError>;
 
-/// Run an export's body on the instance behind `c`: refuse NULL, check the call is legal
-/// in the current state (`mask`; in Error, also in the state before the error, whose
-/// values the model holds), catch panics (fmi2Fatal), log errors. Inlined into every
-/// export: the success path is a null test, a mask test, one flag test for `logCalls`
-/// and the panic barrier; refusing, logging and the panic's report are out of line.
+/// [`enter_as`] for an FMI 2.0 export.
 #[inline(always)]
 pub fn enter(
     c: fmi2Component,
+    func: &str,
+    mask: u16,
+    body: impl FnOnce(&mut Instance) -> Outcome,
+) -> fmi2Status {
+    enter_as(c, FmiVersion::Fmi2, func, mask, body)
+}
+
+/// Run an export's body on the instance behind `c`: refuse NULL, refuse an instance
+/// another FMI version made, check the call is legal in the current state (`mask`; in
+/// Error, also in the state before the error, whose values the model holds), catch
+/// panics (Fatal), log errors. The status returned is both versions' (the same
+/// numbers, [`super::version`]). Inlined into every export: the success path is a null
+/// test, a version and a mask test, one flag test for `logCalls` and the panic barrier;
+/// refusing, logging and the panic's report are out of line.
+#[inline(always)]
+pub fn enter_as(
+    c: fmi2Component,
+    version: FmiVersion,
     func: &str,
     mask: u16,
     body: impl FnOnce(&mut Instance) -> Outcome,
@@ -151,15 +231,17 @@ pub fn enter(
     }
     let ptr = c.cast::<Instance>();
     let result = {
-        // SAFETY: a non-null fmi2Component is a pointer this library returned from
-        // fmi2Instantiate (Box::into_raw) and that fmi2FreeInstance has not yet freed;
-        // FMI forbids concurrent calls on one instance, so this is the only reference.
+        // SAFETY: a non-null fmi2Component or fmi3Instance is a pointer this library
+        // returned from an instantiation function (Box::into_raw) and that no
+        // FreeInstance has freed yet; FMI forbids concurrent calls on one instance, so
+        // this is the only reference.
         let inst = unsafe { &mut *ptr };
         // Outside Error the phase is the state itself: one test.
-        if mask & inst.state.bit() == 0
+        if inst.version != version
+            || mask & inst.state.bit() == 0
             || (inst.state == FmiState::Error && mask & inst.before_error.bit() == 0)
         {
-            return illegal(inst, func, mask);
+            return illegal(inst, version, func, mask);
         }
         if inst.log.enabled[LOG_CALLS] {
             log_call(inst, func);
@@ -187,20 +269,32 @@ fn log_call(inst: &Instance, func: &str) {
     inst.log.send(fmi2OK, LOG_CALLS, func);
 }
 
-/// A call not allowed in the instance's state: logged; outside Error the instance
-/// enters Error.
+/// A call not allowed on the instance (another version made it) or in its state:
+/// logged; outside Error the instance enters Error.
 #[cold]
 #[inline(never)]
-fn illegal(inst: &mut Instance, func: &str, mask: u16) -> fmi2Status {
-    if mask & inst.state.bit() == 0 {
-        let msg = format!("{func}: illegal call in state {:?}", inst.state);
+fn illegal(inst: &mut Instance, version: FmiVersion, func: &str, mask: u16) -> fmi2Status {
+    let name = |s| state_name(inst.version, s);
+    if inst.version != version {
+        let msg = format!(
+            "{func}: an FMI {} function called on an instance made by FMI {}'s \
+             instantiation: use the fmi{}* functions on it",
+            version.number(),
+            inst.version.number(),
+            &inst.version.number()[..1]
+        );
+        inst.log.send_verbatim(fmi2Error, LOG_ERROR, &msg);
+        inst.fail();
+    } else if mask & inst.state.bit() == 0 {
+        let msg = format!("{func}: illegal call in state {}", name(inst.state));
         inst.log.send(fmi2Error, LOG_ERROR, &msg);
         inst.fail();
     } else {
         let msg = format!(
-            "{func}: illegal call in state Error entered from state {:?}, where the \
-             call is not allowed (the model holds that state's values)",
-            inst.before_error
+            "{func}: illegal call in state {} entered from state {}, where the call is \
+             not allowed (the model holds that state's values)",
+            name(FmiState::Error),
+            name(inst.before_error)
         );
         inst.log.send(fmi2Error, LOG_ERROR, &msg);
     }
@@ -295,6 +389,8 @@ mod tests {
         };
         Box::new(Instance {
             log: Log::new(&callbacks, "t", false),
+            version: FmiVersion::Fmi2,
+            interface: Interface::CoSimulation,
             state: FmiState::Instantiated,
             before_error: FmiState::Instantiated,
             simulation: Simulation::new(scene, "{g}".into()),

@@ -7,8 +7,10 @@
 //! state before the error ([`crate::fmi::instance::Instance::before_error`]): the model
 //! is kept at its last consistent state when a call fails.
 
-/// Where an instance is in the FMI 2.0 co-simulation state machine. The values are bits,
-/// so a set of states is a `u16` mask.
+/// Where an instance is in the FMI 2.0 co-simulation state machine, or in FMI 3.0's,
+/// which names some of the same states otherwise (StepComplete is FMI 3.0's StepMode,
+/// StepFailed its StepDiscarded; [`crate::fmi::version`] names them per version) and
+/// adds Model Exchange's. The values are bits, so a set of states is a `u16` mask.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[repr(u16)]
 pub enum FmiState {
@@ -30,6 +32,11 @@ pub enum FmiState {
     Error = 128,
     /// After a call returned fmi2Fatal.
     Fatal = 256,
+    /// FMI 3.0 Event Mode (Model Exchange, or co-simulation with event mode; never entered
+    /// by a co-simulation instance of this FMU: hasEventMode="false").
+    EventMode = 512,
+    /// FMI 3.0 Continuous-Time Mode (Model Exchange only).
+    ContinuousTimeMode = 1024,
 }
 
 impl FmiState {
@@ -61,7 +68,8 @@ impl FmiState {
 
 use FmiState::*;
 
-const fn m(states: &[FmiState]) -> u16 {
+/// The mask of a set of states.
+pub(crate) const fn m(states: &[FmiState]) -> u16 {
     let mut mask = 0;
     let mut k = 0;
     while k < states.len() {

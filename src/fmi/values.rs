@@ -1,6 +1,7 @@
 //! The value exports: fmi2Get/Set{Real,Integer,Boolean,String}, the input and output
 //! derivatives, and fmi2GetDirectionalDerivative (not provided). Pointer arrays become
-//! slices here; the model in [`crate::fmu::simulation`] checks what may be set or read.
+//! slices here; the model in [`crate::fmu::simulation`] checks what may be set or read. The
+//! bodies are shared with FMI 3.0's exports ([`super::fmi3::values`]).
 
 #![allow(non_snake_case, clippy::missing_safety_doc)]
 
@@ -29,20 +30,35 @@ pub unsafe extern "C" fn fmi2GetReal(
     value: *mut fmi2Real,
 ) -> fmi2Status {
     enter(c, "fmi2GetReal", state::GET, |inst| {
-        // The step loop's call, one position the method gives alone: read on
-        // comparisons alone. Anything else takes the general path with its messages.
-        if nvr == 1 && !vr.is_null() && !value.is_null() {
-            // SAFETY: `vr` is non-null and holds `nvr` = 1 element.
-            let r = unsafe { *vr };
-            if let Some(x) = inst.simulation.get_position(r) {
-                // SAFETY: `value` is non-null and holds 1 writable element.
-                unsafe { *value = x };
-                return Ok(fmi2OK);
-            }
-        }
         // SAFETY: the caller's contract, passed on.
-        unsafe { get_reals(inst, vr, nvr, value) }
+        unsafe { real_values(inst, vr, nvr, value) }
     })
+}
+
+/// The body of fmi2GetReal and fmi3GetFloat64: the step loop's call, one position the
+/// method gives alone, is read on comparisons alone; anything else takes the general
+/// path with its messages.
+///
+/// # Safety
+/// `vr` holds `nvr` elements, `value` `nvr` writable ones, distinct from `vr`.
+#[inline(always)]
+pub(crate) unsafe fn real_values(
+    inst: &mut Instance,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *mut fmi2Real,
+) -> Outcome {
+    if nvr == 1 && !vr.is_null() && !value.is_null() {
+        // SAFETY: `vr` is non-null and holds `nvr` = 1 element.
+        let r = unsafe { *vr };
+        if let Some(x) = inst.simulation.get_position(r) {
+            // SAFETY: `value` is non-null and holds 1 writable element.
+            unsafe { *value = x };
+            return Ok(fmi2OK);
+        }
+    }
+    // SAFETY: the caller's contract, passed on.
+    unsafe { get_reals(inst, vr, nvr, value) }
 }
 
 /// fmi2GetReal's general path, out of line so that the one-position path stays small.
@@ -76,18 +92,34 @@ pub unsafe extern "C" fn fmi2GetInteger(
     value: *mut fmi2Integer,
 ) -> fmi2Status {
     enter(c, "fmi2GetInteger", state::GET, |inst| {
-        // SAFETY: `vr` holds `nvr` value references.
-        let vrs = unsafe { slice(vr, nvr, "vr") }?;
-        // SAFETY: `value` holds `nvr` writable integers.
-        let out = unsafe { slice_mut(value, nvr, "value") }?;
-        for (&r, o) in vrs.iter().zip(out.iter_mut()) {
-            *o = inst.simulation.get_integer(r)?;
-        }
-        Ok(fmi2OK)
+        // SAFETY: the caller's contract, passed on.
+        unsafe { integer_values(inst, vr, nvr, value) }
     })
 }
 
-fn no_variables(kind: &'static str, vrs: &[fmi2ValueReference]) -> Outcome {
+/// The body of fmi2GetInteger and fmi3GetInt32.
+///
+/// # Safety
+/// `vr` holds `nvr` elements, `value` `nvr` writable ones.
+pub(crate) unsafe fn integer_values(
+    inst: &mut Instance,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *mut fmi2Integer,
+) -> Outcome {
+    // SAFETY: `vr` holds `nvr` value references.
+    let vrs = unsafe { slice(vr, nvr, "vr") }?;
+    // SAFETY: `value` holds `nvr` writable integers.
+    let out = unsafe { slice_mut(value, nvr, "value") }?;
+    for (&r, o) in vrs.iter().zip(out.iter_mut()) {
+        *o = inst.simulation.get_integer(r)?;
+    }
+    Ok(fmi2OK)
+}
+
+/// A get or set of a type this FMU has no variables of: fine for no value references,
+/// refused naming the first otherwise.
+pub(crate) fn no_variables(kind: &'static str, vrs: &[fmi2ValueReference]) -> Outcome {
     match vrs.first() {
         None => Ok(fmi2OK),
         Some(&vr) => Err(FmiError::NoVariables { vr, kind }),
@@ -142,19 +174,33 @@ pub unsafe extern "C" fn fmi2SetReal(
     value: *const fmi2Real,
 ) -> fmi2Status {
     enter(c, "fmi2SetReal", state::SET, |inst| {
-        // The step loop's call, one load: stored on comparisons alone. Anything else
-        // (several values, a parameter, a value to refuse) takes the general path with
-        // its messages.
-        if nvr == 1 && !vr.is_null() && !value.is_null() {
-            // SAFETY: both are non-null and hold `nvr` = 1 element.
-            let (r, v) = unsafe { (*vr, *value) };
-            if inst.simulation.set_load(r, v) {
-                return Ok(fmi2OK);
-            }
-        }
         // SAFETY: the caller's contract, passed on.
-        unsafe { set_reals(inst, vr, nvr, value) }
+        unsafe { set_real_values(inst, vr, nvr, value) }
     })
+}
+
+/// The body of fmi2SetReal and fmi3SetFloat64: the step loop's call, one load, is
+/// stored on comparisons alone; anything else (several values, a parameter, a value to
+/// refuse) takes the general path with its messages.
+///
+/// # Safety
+/// `vr` and `value` hold `nvr` elements.
+#[inline(always)]
+pub(crate) unsafe fn set_real_values(
+    inst: &mut Instance,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *const fmi2Real,
+) -> Outcome {
+    if nvr == 1 && !vr.is_null() && !value.is_null() {
+        // SAFETY: both are non-null and hold `nvr` = 1 element.
+        let (r, v) = unsafe { (*vr, *value) };
+        if inst.simulation.set_load(r, v) {
+            return Ok(fmi2OK);
+        }
+    }
+    // SAFETY: the caller's contract, passed on.
+    unsafe { set_reals(inst, vr, nvr, value) }
 }
 
 /// fmi2SetReal's general path, out of line so that the one-load path stays small.
@@ -188,13 +234,27 @@ pub unsafe extern "C" fn fmi2SetInteger(
     value: *const fmi2Integer,
 ) -> fmi2Status {
     enter(c, "fmi2SetInteger", state::SET, |inst| {
-        // SAFETY: `vr` holds `nvr` value references.
-        let vrs = unsafe { slice(vr, nvr, "vr") }?;
-        // SAFETY: `value` holds `nvr` integers.
-        let vals = unsafe { slice(value, nvr, "value") }?;
-        inst.simulation.set_integers(vrs, vals, phase(inst.state))?;
-        Ok(fmi2OK)
+        // SAFETY: the caller's contract, passed on.
+        unsafe { set_integer_values(inst, vr, nvr, value) }
     })
+}
+
+/// The body of fmi2SetInteger and fmi3SetInt32.
+///
+/// # Safety
+/// `vr` and `value` hold `nvr` elements.
+pub(crate) unsafe fn set_integer_values(
+    inst: &mut Instance,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *const fmi2Integer,
+) -> Outcome {
+    // SAFETY: `vr` holds `nvr` value references.
+    let vrs = unsafe { slice(vr, nvr, "vr") }?;
+    // SAFETY: `value` holds `nvr` integers.
+    let vals = unsafe { slice(value, nvr, "value") }?;
+    inst.simulation.set_integers(vrs, vals, phase(inst.state))?;
+    Ok(fmi2OK)
 }
 
 /// Set Boolean variables (there are none).
@@ -310,19 +370,32 @@ pub unsafe extern "C" fn fmi2GetRealOutputDerivatives(
         c,
         "fmi2GetRealOutputDerivatives",
         state::GET_REAL_OUTPUT_DERIVATIVES,
-        |inst| {
-            // SAFETY: each array holds `nvr` elements; `value` is writable and distinct.
-            let (vrs, ords, out) = unsafe {
-                (
-                    slice(vr, nvr, "vr")?,
-                    slice(order, nvr, "order")?,
-                    slice_mut(value, nvr, "value")?,
-                )
-            };
-            for ((&r, &o), v) in vrs.iter().zip(ords).zip(out.iter_mut()) {
-                *v = inst.simulation.get_output_derivative(r, o)?;
-            }
-            Ok(fmi2OK)
-        },
+        // SAFETY: the caller's contract, passed on.
+        |inst| unsafe { output_derivatives(inst, vr, nvr, order, value) },
     )
+}
+
+/// The body of fmi2GetRealOutputDerivatives and fmi3GetOutputDerivatives.
+///
+/// # Safety
+/// `vr`, `order` and `value` hold `nvr` elements; `value` is writable and distinct.
+pub(crate) unsafe fn output_derivatives(
+    inst: &mut Instance,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    order: *const fmi2Integer,
+    value: *mut fmi2Real,
+) -> Outcome {
+    // SAFETY: each array holds `nvr` elements; `value` is writable and distinct.
+    let (vrs, ords, out) = unsafe {
+        (
+            slice(vr, nvr, "vr")?,
+            slice(order, nvr, "order")?,
+            slice_mut(value, nvr, "value")?,
+        )
+    };
+    for ((&r, &o), v) in vrs.iter().zip(ords).zip(out.iter_mut()) {
+        *v = inst.simulation.get_output_derivative(r, o)?;
+    }
+    Ok(fmi2OK)
 }

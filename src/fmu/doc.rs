@@ -3,6 +3,7 @@
 
 use std::fmt::Write;
 
+use super::fmi_version::FmiVersion;
 use super::options::SceneOptions;
 use super::vars::{Causality, VarTable, default_method, method_name};
 use super::xml::{feeds_through, modes_summary};
@@ -15,8 +16,21 @@ fn esc(s: &str) -> String {
         .replace('"', "&quot;")
 }
 
-/// The HTML page.
+/// The HTML page of an FMI 2.0 FMU.
 pub fn index_html(scene: &Scene, table: &VarTable, opts: &SceneOptions, guid: &str) -> String {
+    index_html_for(scene, table, opts, guid, FmiVersion::Fmi2, &opts.platforms)
+}
+
+/// The HTML page of an FMU packed for `fmi`, whose `binaries/` folders besides the
+/// packing build's are `added`.
+pub fn index_html_for(
+    scene: &Scene,
+    table: &VarTable,
+    opts: &SceneOptions,
+    guid: &str,
+    fmi: FmiVersion,
+    added: &[String],
+) -> String {
     let b = &scene.body;
     let mut h = String::new();
     let _ = write!(
@@ -27,10 +41,11 @@ pub fn index_html(scene: &Scene, table: &VarTable, opts: &SceneOptions, guid: &s
     let (stop, step) = opts.experiment(scene);
     let _ = write!(
         h,
-        "<p>A Radioss flexible body (/FXBODY) as an FMI 2.0 co-simulation unit, packed by fxbody {} \
+        "<p>A Radioss flexible body (/FXBODY) as an FMI {} co-simulation unit, packed by fxbody {} \
          (GUID {}).</p>\n<ul>\n<li>{} body, {} nodes, {} ({} static), rotational DOFs: {}</li>\n\
          <li>Damping: {}</li>\n<li>Explicit stable step (from the largest computed eigenfrequency {:.6e} Hz; stored Freq {:.6e} Hz): {:.6e} s</li>\n\
          <li>Default experiment: stop {} s, step {} s</li>\n<li>Methods: {}; default {}</li>\n<li>Units: {}</li>\n<li>Platforms: {}</li>\n</ul>\n",
+        fmi.number(),
         env!("CARGO_PKG_VERSION"),
         esc(guid),
         if table.free { "Free" } else { "Blocked" },
@@ -57,8 +72,8 @@ pub fn index_html(scene: &Scene, table: &VarTable, opts: &SceneOptions, guid: &s
         opts.units
             .map_or("none declared (the file's own consistent system)", |u| u
                 .name()),
-        std::iter::once(super::platforms::NATIVE)
-            .chain(opts.platforms.iter().map(String::as_str))
+        std::iter::once(fmi.native_platform())
+            .chain(added.iter().map(String::as_str))
             .collect::<Vec<_>>()
             .join(", "),
     );
@@ -91,7 +106,12 @@ pub fn index_html(scene: &Scene, table: &VarTable, opts: &SceneOptions, guid: &s
             esc(&v.description)
         );
     }
-    h.push_str("</table>\n<p>Loads are in the global frame, held over a step or interpolated linearly when the master sets input derivatives.</p>\n");
+    h.push_str(match fmi {
+        FmiVersion::Fmi2 => "</table>\n<p>Loads are in the global frame, held over a step or interpolated linearly when the master sets input derivatives.</p>\n",
+        // FMI 3.0 has no input derivatives; `time`, its independent variable, is declared
+        // at the value reference after the table's.
+        FmiVersion::Fmi3 => "</table>\n<p>Loads are in the global frame, held over a step. The independent variable <code>time</code> follows the table's last value reference.</p>\n",
+    });
     dependencies(&mut h, scene, table);
     h.push_str("</body></html>\n");
     h

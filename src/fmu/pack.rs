@@ -4,7 +4,8 @@
 
 use std::path::{Path, PathBuf};
 
-use super::doc::index_html;
+use super::doc::index_html_for;
+use super::fmi_version::FmiVersion;
 use super::options::{SceneOptions, UnitSystem};
 use super::vars::VarTable;
 use super::xml::model_description;
@@ -55,6 +56,8 @@ pub struct PackOptions {
     pub method: Option<crate::solver::Method>,
     /// `--binary PLATFORM=PATH`: libraries built on other platforms.
     pub binaries: Vec<(String, PathBuf)>,
+    /// `--fmi 2|3`: the FMI version of the model description (default 2.0).
+    pub fmi: FmiVersion,
 }
 
 /// A scene ready to be described or packed.
@@ -79,8 +82,21 @@ pub struct Prepared {
     pub xml: String,
     /// Notes for the user (derived coordinates, body warnings).
     pub notes: Vec<String>,
-    /// Libraries for other platforms (`--binary`), by FMI platform name.
+    /// Libraries for other platforms (`--binary`), by FMI 2.0 platform name.
     pub other_binaries: Vec<(String, Vec<u8>)>,
+    /// The FMI version the description and the archive's layout follow.
+    pub fmi: FmiVersion,
+}
+
+impl Prepared {
+    /// The `binaries/` folders of the libraries added with `--binary`, in the FMU's
+    /// version's names.
+    pub fn added_platforms(&self) -> Vec<String> {
+        self.other_binaries
+            .iter()
+            .flat_map(|(p, bytes)| self.fmi.platform_dirs(p, bytes))
+            .collect()
+    }
 }
 
 /// Read and check everything, and generate the description (no library needed).
@@ -340,8 +356,7 @@ pub fn prepare_reporting(
             table.vars.len()
         ));
     }
-    let xml = model_description(&scene, &table, &options, &guid);
-    Ok(Prepared {
+    let mut p = Prepared {
         scene,
         table,
         options,
@@ -350,10 +365,22 @@ pub fn prepare_reporting(
         embed_source: req.embed_source,
         scene_file,
         options_text,
-        xml,
         notes,
         other_binaries,
-    })
+        fmi: popts.fmi,
+        xml: String::new(),
+    };
+    p.xml = match p.fmi {
+        FmiVersion::Fmi2 => model_description(&p.scene, &p.table, &p.options, &p.guid),
+        FmiVersion::Fmi3 => super::xml3::model_description(
+            &p.scene,
+            &p.table,
+            &p.options,
+            &p.guid,
+            &p.added_platforms(),
+        ),
+    };
+    Ok(p)
 }
 
 /// Refuse to write `out` over one of the `inputs` (`(what, path)`): the same file as the
@@ -423,25 +450,35 @@ pub fn archive(p: &Prepared, lib: &[u8]) -> Result<Vec<u8>, PackError> {
             mode: 0o644,
         },
         Entry {
-            name: format!("binaries/linux64/{id}.so"),
+            name: format!("binaries/{}/{id}.so", p.fmi.native_platform()),
             data: lib.to_vec(),
             mode: 0o755,
         },
     ];
     for (platform, data) in &p.other_binaries {
-        entries.push(Entry {
-            name: format!(
-                "binaries/{platform}/{}",
-                super::platforms::library_name(platform, &id)
-            ),
-            data: data.clone(),
-            mode: 0o755,
-        });
+        for dir in p.fmi.platform_dirs(platform, data) {
+            entries.push(Entry {
+                name: format!(
+                    "binaries/{dir}/{}",
+                    super::platforms::library_name(platform, &id)
+                ),
+                data: data.clone(),
+                mode: 0o755,
+            });
+        }
     }
     entries.extend(resource_entries(p));
+    let page = index_html_for(
+        &p.scene,
+        &p.table,
+        &p.options,
+        &p.guid,
+        p.fmi,
+        &p.added_platforms(),
+    );
     entries.push(Entry {
         name: "documentation/index.html".into(),
-        data: index_html(&p.scene, &p.table, &p.options, &p.guid).into_bytes(),
+        data: page.into_bytes(),
         mode: 0o644,
     });
     Ok(write(&entries)?)

@@ -377,6 +377,14 @@ impl VarTable {
         self
     }
 
+    /// The value reference of FMI 3.0's independent variable `time`, which an FMI 3.0
+    /// model description must declare (and the FMI 3.0 getter serves): the one after the
+    /// table's, so that every variable keeps the value reference it has in the FMI 2.0
+    /// FMU, whose description declares no independent variable.
+    pub fn time_ref(&self) -> u32 {
+        self.vars.len() as u32
+    }
+
     /// The variable with value reference `vr`.
     pub fn get(&self, vr: u32) -> Option<&Variable> {
         self.vars.get(vr as usize)

@@ -1,11 +1,13 @@
 //! modelDescription.xml from the variable table, the scene and the pack options. Element
-//! order follows the FMI 2.0 schema (CoSimulation, UnitDefinitions, LogCategories, DefaultExperiment, ModelVariables, ModelStructure); no time stamp, so
-//! the same input gives the same bytes.
+//! order follows the FMI 2.0 schema (CoSimulation, UnitDefinitions, LogCategories,
+//! DefaultExperiment, ModelVariables, ModelStructure); no time stamp, so the same input
+//! gives the same bytes. The parts FMI 3.0's description shares ([`super::xml3`]) are
+//! functions here.
 
 use std::fmt::Write;
 
 use super::options::{SceneOptions, UnitSystem};
-use super::vars::{Causality, Kind, Quantity, VarTable, method_range};
+use super::vars::{Causality, Kind, Quantity, VarTable, Variable, method_range};
 use crate::num::count;
 use crate::scene::Scene;
 
@@ -171,7 +173,128 @@ pub fn modes_summary(scene: &Scene) -> String {
     }
 }
 
-/// The complete modelDescription.xml text.
+/// The model description's `description` attribute (both FMI versions): kind of body,
+/// nodes, modes kept, exposed nodes.
+pub(crate) fn body_description(scene: &Scene, table: &VarTable) -> String {
+    let kind = if table.free { "free" } else { "blocked" };
+    format!(
+        "Radioss flexible body ({kind}, {}, {}, {}), by fxbody",
+        count(scene.body.nnodes(), "node"),
+        modes_summary(scene),
+        count(scene.nodes.len(), "exposed node")
+    )
+}
+
+/// The units the variables of `table` use in system `u`, each once, in variable order
+/// (both FMI versions' `<UnitDefinitions>`).
+pub(crate) fn units_used(table: &VarTable, u: UnitSystem) -> Vec<(&'static str, [i32; 3], f64)> {
+    let mut seen: Vec<(&'static str, [i32; 3], f64)> = Vec::new();
+    for v in &table.vars {
+        if let Some(def) = unit(v.quantity, u)
+            && !seen.iter().any(|d| d.0 == def.0)
+        {
+            seen.push(def);
+        }
+    }
+    seen
+}
+
+/// `<LogCategories>` and `<DefaultExperiment>`, the same in both FMI versions.
+pub(crate) fn categories_and_experiment(scene: &Scene, opts: &SceneOptions) -> String {
+    let mut x = String::from("  <LogCategories>\n");
+    for (name, desc) in LOG_CATEGORIES {
+        let _ = writeln!(
+            x,
+            "    <Category name=\"{name}\" description=\"{}\"/>",
+            escape(desc)
+        );
+    }
+    x.push_str("  </LogCategories>\n");
+    let (stop, step) = opts.experiment(scene);
+    let _ = writeln!(
+        x,
+        "  <DefaultExperiment startTime=\"0.0\" stopTime=\"{}\" stepSize=\"{}\"/>",
+        real(stop),
+        real(step)
+    );
+    x
+}
+
+/// One output of the ModelStructure (both FMI versions), by position in the table: the
+/// variables its value depends on at the same instant (the loads, when it feeds
+/// through) and at the initial instant (also v0 and w0 for velocities of free bodies),
+/// by position as well.
+pub(crate) struct Unknown {
+    /// The output.
+    pub output: usize,
+    /// Same-instant dependencies (`<Outputs>`, `<Output>`).
+    pub outputs: Vec<usize>,
+    /// Initial dependencies (`<InitialUnknowns>`, `<InitialUnknown>`).
+    pub initial: Vec<usize>,
+}
+
+/// Every output's [`Unknown`], in table order.
+pub(crate) fn unknowns(scene: &Scene, table: &VarTable) -> Vec<Unknown> {
+    let loads: Vec<usize> = (0..table.vars.len())
+        .filter(|&j| matches!(table.vars[j].kind, Kind::Load { .. }))
+        .collect();
+    (0..table.vars.len())
+        .filter(|&i| table.vars[i].causality == Causality::Output)
+        .map(|i| {
+            let feeds = feeds_through(scene, table, i);
+            Unknown {
+                output: i,
+                outputs: if feeds { loads.clone() } else { Vec::new() },
+                initial: (0..table.vars.len())
+                    .filter(|&j| {
+                        let p = &table.vars[j];
+                        table.initial_dependency(&table.vars[i], p)
+                            || (feeds && matches!(p.kind, Kind::Load { .. }))
+                    })
+                    .collect(),
+            }
+        })
+        .collect()
+}
+
+/// A variable's causality, variability and `initial` attribute (the last empty or with
+/// its leading blank), the same in both FMI versions: parameters fixed and exact,
+/// inputs continuous without `initial`, outputs continuous and calculated.
+fn causality_attributes(v: &Variable) -> (&'static str, &'static str, &'static str) {
+    match v.causality {
+        Causality::Parameter => ("parameter", "fixed", " initial=\"exact\""),
+        Causality::Input => ("input", "continuous", ""),
+        Causality::Output => ("output", "continuous", " initial=\"calculated\""),
+    }
+}
+
+/// A variable's name, value reference, description, causality, variability and
+/// `initial` attributes, the same in both FMI versions.
+pub(crate) fn variable_attributes(v: &Variable) -> String {
+    let (causality, variability, initial) = causality_attributes(v);
+    format!(
+        "name=\"{}\" valueReference=\"{}\" description=\"{}\" causality=\"{causality}\" \
+         variability=\"{variability}\"{initial}",
+        escape(&v.name),
+        v.vr,
+        escape(&v.description)
+    )
+}
+
+/// A Real (FMI 3.0: Float64) variable's `unit` and `start` attributes, each with its
+/// leading blank, when it has them.
+pub(crate) fn real_attributes(v: &Variable, opts: &SceneOptions) -> String {
+    let mut attrs = String::new();
+    if let Some(u) = opts.units.and_then(|u| unit(v.quantity, u)) {
+        let _ = write!(attrs, " unit=\"{}\"", escape(u.0));
+    }
+    if let Some(s) = v.start {
+        let _ = write!(attrs, " start=\"{}\"", real(s));
+    }
+    attrs
+}
+
+/// The complete modelDescription.xml text (FMI 2.0; FMI 3.0's is [`super::xml3`]).
 pub fn model_description(
     scene: &Scene,
     table: &VarTable,
@@ -179,14 +302,7 @@ pub fn model_description(
     guid: &str,
 ) -> String {
     let mut x = String::new();
-    let body = &scene.body;
-    let kind = if table.free { "free" } else { "blocked" };
-    let description = format!(
-        "Radioss flexible body ({kind}, {}, {}, {}), by fxbody",
-        count(body.nnodes(), "node"),
-        modes_summary(scene),
-        count(scene.nodes.len(), "exposed node")
-    );
+    let description = body_description(scene, table);
     x.push_str("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
     let _ = writeln!(
         x,
@@ -206,35 +322,13 @@ pub fn model_description(
         escape(&opts.model_identifier())
     );
     if let Some(u) = opts.units {
-        let mut seen: Vec<&str> = Vec::new();
         x.push_str("  <UnitDefinitions>\n");
-        for v in &table.vars {
-            if let Some(def) = unit(v.quantity, u) {
-                if seen.contains(&def.0) {
-                    continue;
-                }
-                seen.push(def.0);
-                x.push_str(&unit_element(def));
-            }
+        for def in units_used(table, u) {
+            x.push_str(&unit_element(def));
         }
         x.push_str("  </UnitDefinitions>\n");
     }
-    x.push_str("  <LogCategories>\n");
-    for (name, desc) in LOG_CATEGORIES {
-        let _ = writeln!(
-            x,
-            "    <Category name=\"{name}\" description=\"{}\"/>",
-            escape(desc)
-        );
-    }
-    x.push_str("  </LogCategories>\n");
-    let (stop, step) = opts.experiment(scene);
-    let _ = writeln!(
-        x,
-        "  <DefaultExperiment startTime=\"0.0\" stopTime=\"{}\" stepSize=\"{}\"/>",
-        real(stop),
-        real(step)
-    );
+    x.push_str(&categories_and_experiment(scene, opts));
     if !opts.platforms.is_empty() {
         // FMI 2.0 has no platform list; a tool annotation records what pack --binary added.
         let _ = writeln!(
@@ -246,19 +340,11 @@ pub fn model_description(
     }
     x.push_str("  <ModelVariables>\n");
     for (i, v) in table.vars.iter().enumerate() {
-        let (causality, variability, initial) = match v.causality {
-            Causality::Parameter => ("parameter", "fixed", " initial=\"exact\""),
-            Causality::Input => ("input", "continuous", ""),
-            Causality::Output => ("output", "continuous", " initial=\"calculated\""),
-        };
         let _ = writeln!(
             x,
-            "    <!-- Index {} -->\n    <ScalarVariable name=\"{}\" valueReference=\"{}\" description=\"{}\" \
-             causality=\"{causality}\" variability=\"{variability}\"{initial}>",
+            "    <!-- Index {} -->\n    <ScalarVariable {}>",
             i + 1,
-            escape(&v.name),
-            v.vr,
-            escape(&v.description)
+            variable_attributes(v)
         );
         if v.kind == Kind::Method {
             // An Integer, not an Enumeration: libcosim and ecos ignore Enumeration
@@ -270,58 +356,32 @@ pub fn model_description(
                 table.default_method as i32
             );
         } else {
-            let mut attrs = String::new();
-            if let Some(u) = opts.units.and_then(|u| unit(v.quantity, u)) {
-                let _ = write!(attrs, " unit=\"{}\"", escape(u.0));
-            }
-            if let Some(s) = v.start {
-                let _ = write!(attrs, " start=\"{}\"", real(s));
-            }
+            let attrs = real_attributes(v, opts);
             let _ = writeln!(x, "      <Real{attrs}/>");
         }
         x.push_str("    </ScalarVariable>\n");
     }
-    x.push_str("  </ModelVariables>\n  <ModelStructure>\n    <Outputs>\n");
-    let outputs: Vec<usize> = (0..table.vars.len())
-        .filter(|&i| table.vars[i].causality == Causality::Output)
-        .collect();
-    let feeds = |i: usize| feeds_through(scene, table, i);
-    let loads: Vec<String> = (0..table.vars.len())
-        .filter(|&j| matches!(table.vars[j].kind, Kind::Load { .. }))
-        .map(|j| (j + 1).to_string())
-        .collect();
-    for &i in &outputs {
-        let deps = if feeds(i) {
-            loads.join(" ")
-        } else {
-            String::new()
-        };
-        let _ = writeln!(
-            x,
-            "      <Unknown index=\"{}\" dependencies=\"{deps}\"/>",
-            i + 1
-        );
+    x.push_str("  </ModelVariables>\n  <ModelStructure>\n");
+    // FMI 2.0 names variables by their 1-based index in ModelVariables.
+    let index = |deps: &[usize]| {
+        let v: Vec<String> = deps.iter().map(|j| (j + 1).to_string()).collect();
+        v.join(" ")
+    };
+    let unknowns = unknowns(scene, table);
+    for (list, initial) in [("Outputs", false), ("InitialUnknowns", true)] {
+        let _ = writeln!(x, "    <{list}>");
+        for u in &unknowns {
+            let deps = if initial { &u.initial } else { &u.outputs };
+            let _ = writeln!(
+                x,
+                "      <Unknown index=\"{}\" dependencies=\"{}\"/>",
+                u.output + 1,
+                index(deps)
+            );
+        }
+        let _ = writeln!(x, "    </{list}>");
     }
-    x.push_str("    </Outputs>\n    <InitialUnknowns>\n");
-    for &i in &outputs {
-        let deps: Vec<String> = table
-            .vars
-            .iter()
-            .enumerate()
-            .filter(|(_, p)| {
-                table.initial_dependency(&table.vars[i], p)
-                    || (feeds(i) && matches!(p.kind, Kind::Load { .. }))
-            })
-            .map(|(j, _)| (j + 1).to_string())
-            .collect();
-        let _ = writeln!(
-            x,
-            "      <Unknown index=\"{}\" dependencies=\"{}\"/>",
-            i + 1,
-            deps.join(" ")
-        );
-    }
-    x.push_str("    </InitialUnknowns>\n  </ModelStructure>\n</fmiModelDescription>\n");
+    x.push_str("  </ModelStructure>\n</fmiModelDescription>\n");
     x
 }
 

@@ -103,3 +103,42 @@ fn a_communication_step_does_not_allocate() {
         run("freefree", None, method, 1e-4);
     }
 }
+
+/// Issue 26.1: the step loop through the FMI 3.0 exports (fmi3SetFloat64 of one load,
+/// fmi3DoStep, fmi3GetFloat64 of one position and of `time`) allocates nothing either,
+/// logging off as a master runs it. The counter itself is checked above.
+#[test]
+fn an_fmi3_communication_step_does_not_allocate() {
+    use crate::common::fmu::{H, Stepper};
+    use crate::common::fmu3::{Slave3, packed3};
+    let fx = packed3("alloc3");
+    let s = Slave3::try_with(Some(&fx.p.guid), Some(&fx.resource_path()), "a", false)
+        .unwrap_or_else(|m| panic!("{m:?}"));
+    assert_eq!(s.enter_init(0.0, None), 0);
+    assert_eq!(s.exit_init(), 0);
+    let (f, y, t) = (
+        fx.vr("node_121.fy"),
+        fx.vr("node_121.y"),
+        fx.p.table.time_ref(),
+    );
+    let mut o = [0.0];
+    let mut step = |k: usize| {
+        let time = k as f64 * H;
+        assert_eq!(s.set_real(&[f], &[(300.0 * time).cos()]), 0);
+        assert!(s.do_step(time, H) <= 1);
+        assert_eq!(s.get_real(&[y], &mut o), 0);
+        let y = o[0];
+        assert_eq!(s.get_real(&[t], &mut o), 0);
+        assert_eq!(o[0], time + H);
+        y
+    };
+    step(0);
+    let before = alloc_counter::allocations();
+    let mut moved = 0.0f64;
+    for k in 1..301 {
+        moved = moved.max(step(k).abs());
+    }
+    let after = alloc_counter::allocations();
+    assert!(moved > 0.0);
+    assert_eq!(after - before, 0, "allocations in 300 FMI 3.0 steps");
+}

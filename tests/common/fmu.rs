@@ -23,7 +23,8 @@ mod x {
 use fxbody::fmi::instance::Instance as Inner;
 use fxbody::fmi::state::FmiState;
 use fxbody::fmi::types::*;
-use fxbody::fmu::pack::{PackRequest, Prepared, find_library, pack};
+use fxbody::fmu::fmi_version::FmiVersion;
+use fxbody::fmu::pack::{PackOptions, PackRequest, Prepared, find_library, pack_opts};
 
 use super::fixture;
 
@@ -40,6 +41,12 @@ pub struct Packed {
 }
 
 impl Packed {
+    /// The resources folder as FMI 3.0 passes it: an absolute path with a trailing
+    /// separator.
+    pub fn resource_path(&self) -> String {
+        format!("{}/", self.dir.join("resources").display())
+    }
+
     /// Value reference of a variable by name.
     pub fn vr(&self, name: &str) -> u32 {
         self.p
@@ -62,6 +69,17 @@ impl Drop for Packed {
 /// under the model name `model` (default: the body's name) and unpack it into `dir`: the
 /// preparation and the path of the unpacked library.
 pub fn unpack(dir: &Path, body: &str, node: i64, model: Option<&str>) -> (Prepared, PathBuf) {
+    unpack_as(dir, body, node, model, FmiVersion::Fmi2)
+}
+
+/// [`unpack`] for FMI version `fmi` (`pack --fmi`).
+pub fn unpack_as(
+    dir: &Path,
+    body: &str,
+    node: i64,
+    model: Option<&str>,
+    fmi: FmiVersion,
+) -> (Prepared, PathBuf) {
     std::fs::create_dir_all(dir).unwrap();
     let lib = find_library(None).expect("libfxbody.so next to the test executable");
     let fmu = dir.join("tip.fmu");
@@ -72,9 +90,17 @@ pub fn unpack(dir: &Path, body: &str, node: i64, model: Option<&str>) -> (Prepar
         name: model.map(str::to_string),
         ..PackRequest::default()
     };
-    let p = pack(&req, &lib, &fmu).unwrap();
+    let opts = PackOptions {
+        fmi,
+        ..PackOptions::default()
+    };
+    let p = pack_opts(&req, &opts, &lib, &fmu).unwrap();
     extract(&fmu, dir);
-    let so = dir.join(format!("binaries/linux64/{}.so", model.unwrap_or(body)));
+    let so = dir.join(format!(
+        "binaries/{}/{}.so",
+        fmi.native_platform(),
+        model.unwrap_or(body)
+    ));
     (p, so)
 }
 
@@ -112,8 +138,19 @@ pub fn packed_body(tag: &str, name: &str, node: i64) -> Packed {
 
 /// [`unpack`] under a temporary folder named after `tag`, with the resource URI.
 fn packed_full(tag: &str, body: &str, node: i64, model: Option<&str>) -> Packed {
+    packed_as_version(tag, body, node, model, FmiVersion::Fmi2)
+}
+
+/// [`unpack_as`] under a temporary folder named after `tag`, with the resource URI.
+pub fn packed_as_version(
+    tag: &str,
+    body: &str,
+    node: i64,
+    model: Option<&str>,
+    fmi: FmiVersion,
+) -> Packed {
     let dir = std::env::temp_dir().join(format!("fxbody_robust_{tag}_{}", std::process::id()));
-    let (p, so) = unpack(&dir, body, node, model);
+    let (p, so) = unpack_as(&dir, body, node, model, fmi);
     let uri = fxbody_host::file_uri(&dir.join("resources"));
     Packed { p, dir, uri, so }
 }
@@ -374,9 +411,37 @@ pub fn load(t: f64) -> f64 {
     (300.0 * t).cos()
 }
 
+/// What a run needs of a slave, whichever FMI version drives it (the FMI 3.0 slave is
+/// [`super::fmu3::Slave3`]).
+pub trait Stepper {
+    /// Set Real (Float64) values.
+    fn set_real(&self, vrs: &[u32], vals: &[f64]) -> fmi2Status;
+    /// Get Real (Float64) values.
+    fn get_real(&self, vrs: &[u32], out: &mut [f64]) -> fmi2Status;
+    /// One step.
+    fn do_step(&self, t: f64, h: f64) -> fmi2Status;
+    /// Text of the last error-status message.
+    fn last_error(&self) -> String;
+}
+
+impl Stepper for Slave {
+    fn set_real(&self, vrs: &[u32], vals: &[f64]) -> fmi2Status {
+        Slave::set_real(self, vrs, vals)
+    }
+    fn get_real(&self, vrs: &[u32], out: &mut [f64]) -> fmi2Status {
+        Slave::get_real(self, vrs, out)
+    }
+    fn do_step(&self, t: f64, h: f64) -> fmi2Status {
+        Slave::do_step(self, t, h)
+    }
+    fn last_error(&self) -> String {
+        Slave::last_error(self)
+    }
+}
+
 /// `n` steps from step number `k0`, returning the tip's y after each, or the first
 /// failing status with the logged reason.
-pub fn run(s: &Slave, fx: &Packed, k0: usize, n: usize) -> Result<Vec<f64>, String> {
+pub fn run(s: &impl Stepper, fx: &Packed, k0: usize, n: usize) -> Result<Vec<f64>, String> {
     let (f, y) = (fx.vr("node_121.fy"), fx.vr("node_121.y"));
     let mut out = Vec::with_capacity(n);
     let mut o = [0.0];

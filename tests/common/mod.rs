@@ -6,6 +6,7 @@
 pub mod blocked;
 pub mod c_build;
 pub mod fmu;
+pub mod fmu3;
 pub mod free_hand_step;
 pub mod fxb_files;
 pub mod springs;

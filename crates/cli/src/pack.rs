@@ -1,10 +1,12 @@
 //! `fxbody pack FILE -o OUT.fmu [--coords DECK|CSV] [--nodes ID,...] [--name NAME]
 //! [--units NAME] [--lib PATH] [--nodes-file FILE] [--fmax HZ|auto] [--step H] [--stop T]
-//! [--method NAME] [--header FILE.h] [--binary PLATFORM=PATH]... [--embed-source]`: a
-//! flexible body as an FMI 2.0 co-simulation FMU, with its OSP model description beside it.
+//! [--method NAME] [--header FILE.h] [--binary PLATFORM=PATH]... [--embed-source]
+//! [--fmi 2|3]`: a flexible body as an FMI 2.0 (default) or FMI 3.0 co-simulation FMU,
+//! with its OSP model description beside it.
 
 use std::path::PathBuf;
 
+use fxbody::fmu::fmi_version::FmiVersion;
 use fxbody::fmu::options::method_by_name;
 use fxbody::fmu::pack::{
     Fmax, PackOptions, PackRequest, find_library, pack_reporting, refuse_overwrite,
@@ -75,6 +77,16 @@ pub struct PackArgs {
     /// darwin64); repeatable.
     #[arg(long, value_parser = binary_arg)]
     pub binary: Vec<(String, PathBuf)>,
+    /// FMI version of the FMU: 2 (FMI 2.0, the default, which every master runs) or 3
+    /// (FMI 3.0: Float64/Int32 variables, the same names and value references,
+    /// binaries/x86_64-linux/). The library inside serves both.
+    #[arg(long, default_value = "2", value_parser = fmi_arg)]
+    pub fmi: FmiVersion,
+}
+
+/// clap value parser of `--fmi 2|3`.
+fn fmi_arg(s: &str) -> Result<FmiVersion, String> {
+    FmiVersion::parse(s).ok_or_else(|| format!("expected 2 or 3 (FMI 2.0 or FMI 3.0), found '{s}'"))
 }
 
 /// clap value parser of `--binary PLATFORM=PATH`.
@@ -128,6 +140,7 @@ pub fn run(args: &PackArgs) -> Result<(), String> {
         stop: args.stop,
         method,
         binaries: args.binary.clone(),
+        fmi: args.fmi,
     };
     let header_prefix = match &args.header {
         Some(h) => {
@@ -156,8 +169,9 @@ pub fn run(args: &PackArgs) -> Result<(), String> {
         .map(|m| m.len())
         .unwrap_or(0);
     println!(
-        "{}: model {} (GUID {}), {}, {}, {:.1} MB",
+        "{}: FMI {} model {} (GUID {}), {}, {}, {:.1} MB",
         args.output.display(),
+        p.fmi.number(),
         p.options.model_identifier(),
         p.guid,
         count(p.scene.nodes.len(), "exposed node"),

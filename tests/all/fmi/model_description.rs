@@ -12,7 +12,8 @@
 use std::path::Path;
 
 use crate::common::root;
-use fxbody::fmu::pack::{PackRequest, prepare};
+use fxbody::fmu::fmi_version::FmiVersion;
+use fxbody::fmu::pack::{PackOptions, PackRequest, prepare, prepare_opts};
 use fxbody::scene::io::load_resources;
 
 const BODIES: [&str; 4] = ["cantilever", "cantilever_damped", "freefree", "truss"];
@@ -25,23 +26,37 @@ fn request(body: &str) -> PackRequest {
     }
 }
 
-/// The description with its GUID (`guid="{...}"`) replaced by a mark (module text).
+/// The description with its GUID (FMI 2.0's `guid="{...}"`, FMI 3.0's
+/// `instantiationToken="{...}"`) replaced by a mark (module text).
 fn guid_masked(xml: &str) -> String {
-    match (xml.find("guid=\"{"), xml.find("}\" description=")) {
-        (Some(a), Some(b)) if a < b => format!("{}guid=\"{{GUID}}{}", &xml[..a], &xml[b + 1..]),
-        _ => xml.to_string(),
+    for key in ["guid=\"{", "instantiationToken=\"{"] {
+        if let (Some(a), Some(b)) = (xml.find(key), xml.find("}\" description="))
+            && a < b
+        {
+            let k = a + key.len() - 1;
+            return format!("{}{{GUID}}{}", &xml[..k], &xml[b + 1..]);
+        }
     }
+    xml.to_string()
 }
 
-#[test]
-fn golden_model_descriptions_are_fresh() {
+/// The descriptions `fxbody pack` writes for `bodies` with `opts` equal the golden files
+/// `modelDescription/<folder><body>.xml` but for the GUID (`FXBODY_BLESS=1` rewrites
+/// them).
+fn golden_are_fresh(bodies: &[&str], opts: &PackOptions, folder: &str) {
     let bless = crate::common::blessing();
     let mut stale = Vec::new();
-    for body in BODIES {
-        let p = prepare(&request(body)).unwrap_or_else(|e| panic!("{body}: {e}"));
+    for body in bodies {
+        let p = prepare_opts(&request(body), opts).unwrap_or_else(|e| panic!("{body}: {e}"));
+        assert!(
+            p.xml
+                .contains(&format!("fmiVersion=\"{}\"", opts.fmi.number())),
+            "{body}"
+        );
         assert_ne!(guid_masked(&p.xml), p.xml, "{body}: no GUID found to mask");
-        let path = root().join(format!("modelDescription/{body}.xml"));
+        let path = root().join(format!("modelDescription/{folder}{body}.xml"));
         if bless {
+            std::fs::create_dir_all(path.parent().unwrap()).unwrap();
             std::fs::write(&path, &p.xml).expect("write golden file");
         } else if std::fs::read_to_string(&path)
             .ok()
@@ -55,6 +70,28 @@ fn golden_model_descriptions_are_fresh() {
     assert!(
         stale.is_empty(),
         "stale: {stale:?}; regenerate with `FXBODY_BLESS=1 cargo test --release --test all fmi::model_description`"
+    );
+}
+
+#[test]
+fn golden_model_descriptions_are_fresh() {
+    golden_are_fresh(&BODIES, &PackOptions::default(), "");
+}
+
+/// Issue 26.1: the FMI 3.0 descriptions of one blocked and one free body
+/// (`modelDescription/fmi3/`), fresh like the FMI 2.0 ones; the instantiation token is
+/// the GUID.
+#[test]
+fn golden_fmi3_model_descriptions_are_fresh() {
+    let opts = PackOptions {
+        fmi: FmiVersion::Fmi3,
+        ..PackOptions::default()
+    };
+    golden_are_fresh(&["cantilever", "freefree"], &opts, "fmi3/");
+    let p = prepare_opts(&request("cantilever"), &opts).unwrap();
+    assert!(
+        p.xml
+            .contains(&format!("instantiationToken=\"{}\"", p.guid))
     );
 }
 
