@@ -30,3 +30,4 @@ pub mod scene;
 pub mod solver;
 #[cfg(test)]
 mod testing;
+pub mod units;

@@ -54,9 +54,10 @@ pub fn index_html(scene: &Scene, table: &VarTable, opts: &SceneOptions, guid: &s
             .collect::<Vec<_>>()
             .join(", "),
         default_text(table),
-        opts.units
-            .map_or("none declared (the file's own consistent system)", |u| u
-                .name()),
+        opts.units.map_or_else(
+            || "none declared (the file's own consistent system)".to_string(),
+            |u| u.name()
+        ),
         std::iter::once(super::platforms::NATIVE)
             .chain(opts.platforms.iter().map(String::as_str))
             .collect::<Vec<_>>()

@@ -7,7 +7,9 @@ use std::process::{Command, Output};
 use crate::common::root;
 
 mod first_use;
+mod grammar;
 mod info;
+mod info_nodes;
 mod input_kinds;
 mod inputs;
 mod numbers;
