@@ -33,7 +33,10 @@ pub fn node_list(text: &str) -> Result<NodeIds, String> {
 /// Appends the IDs of `text` (one line of a list) to `ids`.
 fn node_tokens(text: &str, ids: &mut Vec<i64>) -> Result<(), String> {
     for tok in text.split([',', ' ', '\t']).filter(|t| !t.is_empty()) {
-        let bad = || format!("expected {NODES_FORM}, found '{tok}'");
+        let bad = || {
+            let shown = fxbody::fxb::fields::shown(tok.as_bytes());
+            format!("expected {NODES_FORM}, found '{shown}'")
+        };
         let id = |s: &str| s.parse::<i64>().ok().filter(|&v| v > 0).ok_or_else(bad);
         match tok.split_once('-') {
             None => ids.push(id(tok)?),
@@ -61,13 +64,7 @@ pub fn node_file_text(text: &str, name: &str) -> Result<Vec<i64>, String> {
     let mut ids = Vec::new();
     for (k, line) in text.lines().enumerate() {
         let line = line.split('#').next().unwrap_or("");
-        node_tokens(line, &mut ids).map_err(|e| {
-            format!(
-                "{name}:{}: {}",
-                k + 1,
-                fxbody::fxb::fields::shown(e.as_bytes())
-            )
-        })?;
+        node_tokens(line, &mut ids).map_err(|e| format!("{name}:{}: {e}", k + 1))?;
     }
     if ids.is_empty() {
         return Err(format!("{name}: no node IDs"));

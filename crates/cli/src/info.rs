@@ -100,6 +100,10 @@ pub fn run(args: &InfoArgs) -> Result<(), String> {
 /// than a body: the message saying so, and where such a file goes.
 pub fn not_a_body(path: &std::path::Path) -> Option<String> {
     use std::io::Read;
+    // Only a regular file is looked into: a FIFO or a device would block or never end.
+    if !std::fs::metadata(path).ok()?.is_file() {
+        return None;
+    }
     let mut head = Vec::new();
     std::fs::File::open(path)
         .ok()?

@@ -39,10 +39,10 @@ fn pack_units_take_every_system_of_the_grammar() {
     // a velocity mm/ms = 1 m/s, a moment kN mm = 1 N m: factors to SI, by hand.
     let u = osp_units(&dir, "mm-kg-ms");
     for (name, base) in [
-        ("kN", "kg=\"1\" m=\"1\" s=\"-2\" factor=\"1000\""),
+        ("kN", "kg=\"1\" m=\"1\" s=\"-2\" factor=\"1000.0\""),
         ("mm/ms", "m=\"1\" s=\"-1\"/>"),
         ("kN.mm", "kg=\"1\" m=\"2\" s=\"-2\"/>"),
-        ("rad/ms", "s=\"-1\" rad=\"1\" factor=\"1000\""),
+        ("rad/ms", "s=\"-1\" rad=\"1\" factor=\"1000.0\""),
     ] {
         let at = u
             .find(&format!("<Unit name=\"{name}\">"))
