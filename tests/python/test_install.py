@@ -39,7 +39,7 @@ def test_installed_fxbody_packs_without_flags_from_anywhere(tmp_path):
     shutil.copytree(prefix, moved)
     shutil.rmtree(prefix)
     r = subprocess.run([str(moved / "bin" / "fxbody"), "pack", "cantilever.fxb", "--coords",
-                        "cantilever.nodes.rad", "--nodes", "121", "-o", "moved.fmu"],
+                        "cantilever.nodes.rad", "--nodes", "121", "--name", "moved", "-o", "moved.fmu"],
                        cwd=work, env=clean, capture_output=True, text=True)
     assert r.returncode == 0, r.stderr
     # Without its library, the message names every place looked at.
