@@ -5,15 +5,9 @@
 //! counts take the singular, `demo` outside the repository says where the fixtures are
 //! and `study` does not write into docs/ by default.
 
-use super::{run, run_in, scratch};
-use std::process::Output;
+use super::{ok, run, run_in, scratch};
 
 use crate::common::{fixture, fixture_reference, nums, root};
-
-fn ok(o: &Output) -> String {
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    String::from_utf8(o.stdout.clone()).unwrap()
-}
 
 #[test]
 fn info_json_with_nodes_is_one_object_with_mass_properties() {

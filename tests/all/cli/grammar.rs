@@ -4,13 +4,8 @@
 //! mean: the units declared in the FMU's OSP description (factors to SI), the Rayleigh
 //! pair read back from the written body, the nodes a range selects.
 
-use super::{assert_refused, pack_cantilever, run, scratch};
+use super::{assert_refused, ok, pack_cantilever, run, scratch};
 use crate::common::nums;
-
-fn ok(o: &std::process::Output) -> String {
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    String::from_utf8(o.stdout.clone()).unwrap()
-}
 
 /// The `<Unit>` elements of the OSP description beside an FMU packed with `--units`.
 fn osp_units(dir: &std::path::Path, units: &str) -> String {

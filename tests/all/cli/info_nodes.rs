@@ -12,17 +12,12 @@
 //!   static modes are at the tip only) while the tip is exact to the file's digits.
 //! - `info` on a /NODE deck says it is a node deck, naming the file.
 
-use super::{assert_refused, run};
+use super::{assert_refused, ok, run};
 use crate::common::{fixture, fixture_reference, nums};
-
-fn stdout(o: &std::process::Output) -> String {
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    String::from_utf8(o.stdout.clone()).unwrap()
-}
 
 #[test]
 fn free_free_beam_shows_participation_without_static_deflection_or_zero_masses() {
-    let out = stdout(&run(&[
+    let out = ok(&run(&[
         "info",
         "--nodes",
         "501,521",
@@ -49,7 +44,7 @@ fn free_free_beam_shows_participation_without_static_deflection_or_zero_masses()
     );
     assert!(out.contains("centre of gravity (from M_R)"), "{out}");
     // JSON: the free body's key, and the mode 1 share recomputed from the body's modes.
-    let v: serde_json::Value = serde_json::from_str(&stdout(&run(&[
+    let v: serde_json::Value = serde_json::from_str(&ok(&run(&[
         "info",
         "--json",
         "--nodes",
@@ -90,7 +85,7 @@ fn free_free_beam_shows_participation_without_static_deflection_or_zero_masses()
 
 #[test]
 fn truss_modes_from_a_support_print_their_effective_masses() {
-    let out = stdout(&run(&["info", "--nodes", "1001", "fixtures/truss.fxb"]));
+    let out = ok(&run(&["info", "--nodes", "1001", "fixtures/truss.fxb"]));
     assert!(out.contains("meff X"), "{out}");
     assert!(
         out.contains("only approximately here: these local modes carry mass"),
@@ -98,7 +93,7 @@ fn truss_modes_from_a_support_print_their_effective_masses() {
     );
     // The effective masses of all modes along each axis at most the total mass (the
     // rigid motion keeps the rest: a mass-normalised projection, Bessel's inequality).
-    let v: serde_json::Value = serde_json::from_str(&stdout(&run(&[
+    let v: serde_json::Value = serde_json::from_str(&ok(&run(&[
         "info",
         "--json",
         "--nodes",
@@ -146,7 +141,7 @@ fn interior_node_participation_is_relative_to_the_bodys_own_flexibility() {
     assert!((off[0] - 2.85e-4).abs() < 0.01e-4, "{off:?}");
     assert!(off[1] < 2e-9, "the tip has static modes: {off:?}");
     // ... while the table shows 100% at 111 after the last mode.
-    let v: serde_json::Value = serde_json::from_str(&stdout(&run(&[
+    let v: serde_json::Value = serde_json::from_str(&ok(&run(&[
         "info",
         "--json",
         "--nodes",

@@ -51,6 +51,12 @@ pub fn pack_cantilever(args: &[&str]) -> Output {
     run(&[&base[..], args].concat())
 }
 
+/// The stdout of a run that must succeed (its stderr shown when it did not).
+pub fn ok(o: &Output) -> String {
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    String::from_utf8(o.stdout.clone()).unwrap()
+}
+
 /// Assert that `o` is a refusal (exit code 2) whose message holds `says`.
 pub fn assert_refused(o: &Output, says: &str) {
     let e = String::from_utf8_lossy(&o.stderr);
