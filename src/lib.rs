@@ -25,3 +25,4 @@ pub mod fxb;
 pub mod num;
 pub mod scene;
 pub mod solver;
+pub mod units;

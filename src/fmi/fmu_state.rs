@@ -258,7 +258,9 @@ pub unsafe extern "C" fn fmi2SetFMUstate(c: fmi2Component, state: fmi2FMUstate) 
 /// `state` is NULL or a live state handle.
 pub(crate) unsafe fn restore_state(inst: &mut Instance, state: fmi2FMUstate) -> Outcome {
     // SAFETY: `state` is a live state (FMI contract); its header is checked first.
-    let snap = unsafe { handle(state, &inst.simulation.guid) }?.snap.clone();
+    let snap = unsafe { handle(state, &inst.simulation.guid) }?
+        .snap
+        .clone();
     restore(inst, &snap)
 }
 

@@ -34,10 +34,7 @@ pub(crate) fn instantiate(
         }
         let (guid, dir) = args()?;
         let model = crate::fmu::simulation::Simulation::from_resources(&dir)?;
-        let scene_file = dir
-            .join(crate::scene::io::SCENE_FILE)
-            .display()
-            .to_string();
+        let scene_file = dir.join(crate::scene::io::SCENE_FILE).display().to_string();
         warning = crate::body::invariance::check(&model.scene().body, &scene_file);
         if model.guid != guid {
             return Err(FmiError::GuidMismatch {

@@ -69,9 +69,10 @@ pub fn index_html_for(
             .collect::<Vec<_>>()
             .join(", "),
         default_text(table),
-        opts.units
-            .map_or("none declared (the file's own consistent system)", |u| u
-                .name()),
+        opts.units.map_or_else(
+            || "none declared (the file's own consistent system)".to_string(),
+            |u| u.name()
+        ),
         std::iter::once(fmi.native_platform())
             .chain(added.iter().map(String::as_str))
             .collect::<Vec<_>>()

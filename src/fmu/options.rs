@@ -16,10 +16,8 @@ use super::vars::method_name;
 use crate::scene::Scene;
 use crate::solver::Method;
 
-/// A unit system name that is neither SI nor mm-t-s.
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error("unknown unit system '{0}': expected SI (m, kg, s) or mm-t-s (mm, tonne, s)")]
-pub struct UnknownUnits(pub String);
+/// The unit systems of `units` ([`crate::units`]: one grammar for every command).
+pub use crate::units::{UnitSystem, UnknownUnits};
 
 /// Why scene.txt was refused; `at` is `file:line`, `file` the file's name.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
@@ -108,34 +106,6 @@ pub enum OptionsError {
         /// The key.
         key: &'static str,
     },
-}
-
-/// A unit system for the declared units (`pack --units NAME`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum UnitSystem {
-    /// Metre, kilogram, second: N, m, m/s, J.
-    Si,
-    /// Millimetre, tonne, second (a common Radioss system): N, mm, mm/s, mJ.
-    MmTonneS,
-}
-
-impl UnitSystem {
-    /// Parse a `--units` name: `SI` or `mm-t-s` (case-insensitive).
-    pub fn parse(name: &str) -> Result<UnitSystem, UnknownUnits> {
-        match name.to_ascii_lowercase().as_str() {
-            "si" => Ok(UnitSystem::Si),
-            "mm-t-s" | "mmts" => Ok(UnitSystem::MmTonneS),
-            _ => Err(UnknownUnits(name.to_string())),
-        }
-    }
-
-    /// The name written to scene.txt.
-    pub fn name(self) -> &'static str {
-        match self {
-            UnitSystem::Si => "SI",
-            UnitSystem::MmTonneS => "mm-t-s",
-        }
-    }
 }
 
 /// What `fxbody pack` was asked for, after defaults.
@@ -351,7 +321,7 @@ mod tests {
         let o = SceneOptions {
             name: "9 beam & co".into(),
             nodes: vec![12, -3, 7],
-            units: Some(UnitSystem::Si),
+            units: Some(UnitSystem::SI),
             fmax: Some(13.5),
             step: Some(5e-4),
             stop: Some(2.0),

@@ -160,7 +160,7 @@ pub fn osp_model_description(table: &VarTable, opts: &SceneOptions, fmu: &Path) 
         .collect();
     let unit_of = |v: &Variable| opts.units.and_then(|u| unit(v.quantity, u));
     let mut groups = String::new();
-    let mut used_units: Vec<(&str, [i32; 3], f64)> = Vec::new();
+    let mut used_units: Vec<(String, [i32; 3], f64)> = Vec::new();
     for prefix in &prefixes {
         for (port, port_name, parts) in PORTS {
             // A port appears only when all six of its variables exist with the causality
@@ -199,9 +199,9 @@ pub fn osp_model_description(table: &VarTable, opts: &SceneOptions, fmu: &Path) 
                 for (v, axis) in vs.iter().zip(["x", "y", "z"]) {
                     let mut attrs = String::new();
                     if let Some(u) = unit_of(v) {
-                        let _ = write!(attrs, " unit=\"{}\"", escape(u.0));
+                        let _ = write!(attrs, " unit=\"{}\"", escape(&u.0));
                         if !used_units.iter().any(|w| w.0 == u.0) {
-                            used_units.push((u.0, u.1, u.2));
+                            used_units.push(u);
                         }
                     }
                     let _ = writeln!(
@@ -231,7 +231,7 @@ pub fn osp_model_description(table: &VarTable, opts: &SceneOptions, fmu: &Path) 
     if !used_units.is_empty() {
         x.push_str("  <UnitDefinitions>\n");
         for def in &used_units {
-            x.push_str(&unit_element(*def));
+            x.push_str(&unit_element(def));
         }
         x.push_str("  </UnitDefinitions>\n");
     }

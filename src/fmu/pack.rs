@@ -412,7 +412,9 @@ pub fn refuse_overwrite(out: &Path, inputs: &[(&str, &Path)]) -> Result<(), Pack
 }
 
 /// Find the FMU library: `explicit`, else `$FXBODY_LIB`, else `libfxbody.so` next to the
-/// running executable (or one folder up, for test executables in `deps/`). A path given
+/// running executable (a build's target/release/), one folder up (test executables in
+/// `deps/`), or in `../lib/fxbody/` from it (an installed PREFIX/bin/fxbody with
+/// PREFIX/lib/fxbody/libfxbody.so: scripts/install.sh). A path given
 /// (option or variable) must be a regular file no larger than a library can be
 /// ([`Limit::Library`]); the message says what it is instead.
 pub fn find_library(explicit: Option<&Path>) -> Result<PathBuf, PackError> {
@@ -427,15 +429,17 @@ pub fn find_library(explicit: Option<&Path>) -> Result<PathBuf, PackError> {
     }
     let exe = std::env::current_exe().map_err(PackError::Exe)?;
     let mut tried = Vec::new();
-    let mut dir = exe.parent();
-    for _ in 0..2 {
-        let Some(d) = dir else { break };
-        let p = d.join("libfxbody.so");
+    let (here, up) = (exe.parent(), exe.parent().and_then(Path::parent));
+    let candidates = [
+        here.map(|d| d.join("libfxbody.so")),
+        up.map(|d| d.join("libfxbody.so")),
+        up.map(|d| d.join("lib").join("fxbody").join("libfxbody.so")),
+    ];
+    for p in candidates.into_iter().flatten() {
         if p.is_file() {
             return Ok(p);
         }
         tried.push(p.display().to_string());
-        dir = d.parent();
     }
     Err(PackError::LibNotFound(tried.join(", ")))
 }

@@ -104,30 +104,27 @@ fn nice(v: f64, up: bool) -> f64 {
 
 /// Unit name of a quantity in a unit system, with its SI base-unit exponents
 /// (kg, m, s) and factor to SI.
-pub(crate) fn unit(q: Quantity, u: UnitSystem) -> Option<(&'static str, [i32; 3], f64)> {
+pub(crate) fn unit(q: Quantity, u: UnitSystem) -> Option<(String, [i32; 3], f64)> {
     use Quantity::*;
-    use UnitSystem::*;
-    Some(match (q, u) {
-        (None, _) => return Option::None,
-        (Force, _) => ("N", [1, 1, -2], 1.0),
-        (Moment, Si) => ("N.m", [1, 2, -2], 1.0),
-        (Moment, MmTonneS) => ("N.mm", [1, 2, -2], 1e-3),
-        (Length, Si) => ("m", [0, 1, 0], 1.0),
-        (Length, MmTonneS) => ("mm", [0, 1, 0], 1e-3),
-        (Velocity, Si) => ("m/s", [0, 1, -1], 1.0),
-        (Velocity, MmTonneS) => ("mm/s", [0, 1, -1], 1e-3),
-        (Acceleration, Si) => ("m/s2", [0, 1, -2], 1.0),
-        (Acceleration, MmTonneS) => ("mm/s2", [0, 1, -2], 1e-3),
-        (AngularVelocity, _) => ("rad/s", [0, 0, -1], 1.0),
-        (Angle, _) => ("rad", [0, 0, 0], 1.0),
-        (Energy, Si) => ("J", [1, 2, -2], 1.0),
-        (Energy, MmTonneS) => ("mJ", [1, 2, -2], 1e-3),
-    })
+    let (l, t) = (u.length_name(), u.time_name());
+    let (name, dims) = match q {
+        None => return Option::None,
+        Force => (u.force_name(), [1, 1, -2]),
+        Moment => (format!("{}.{l}", u.force_name()), [1, 2, -2]),
+        Length => (l.to_string(), [0, 1, 0]),
+        Velocity => (format!("{l}/{t}"), [0, 1, -1]),
+        Acceleration => (format!("{l}/{t}2"), [0, 1, -2]),
+        AngularVelocity => (format!("rad/{t}"), [0, 0, -1]),
+        Angle => ("rad".to_string(), [0, 0, 0]),
+        Energy => (u.energy_name(), [1, 2, -2]),
+    };
+    Some((name, dims, u.factor(dims)))
 }
 
 /// A `<Unit>` element (FMI 2.0's, which the OSP model description shares) for a unit of
 /// [`unit`], indented for `<UnitDefinitions>`.
-pub(crate) fn unit_element((name, [kg, m, s], factor): (&str, [i32; 3], f64)) -> String {
+pub(crate) fn unit_element(def: &(String, [i32; 3], f64)) -> String {
+    let (name, [kg, m, s], factor) = (&def.0, def.1, def.2);
     let mut base = String::new();
     for (k, e) in [("kg", kg), ("m", m), ("s", s)] {
         if e != 0 {
@@ -187,8 +184,8 @@ pub(crate) fn body_description(scene: &Scene, table: &VarTable) -> String {
 
 /// The units the variables of `table` use in system `u`, each once, in variable order
 /// (both FMI versions' `<UnitDefinitions>`).
-pub(crate) fn units_used(table: &VarTable, u: UnitSystem) -> Vec<(&'static str, [i32; 3], f64)> {
-    let mut seen: Vec<(&'static str, [i32; 3], f64)> = Vec::new();
+pub(crate) fn units_used(table: &VarTable, u: UnitSystem) -> Vec<(String, [i32; 3], f64)> {
+    let mut seen: Vec<(String, [i32; 3], f64)> = Vec::new();
     for v in &table.vars {
         if let Some(def) = unit(v.quantity, u)
             && !seen.iter().any(|d| d.0 == def.0)
@@ -286,7 +283,7 @@ pub(crate) fn variable_attributes(v: &Variable) -> String {
 pub(crate) fn real_attributes(v: &Variable, opts: &SceneOptions) -> String {
     let mut attrs = String::new();
     if let Some(u) = opts.units.and_then(|u| unit(v.quantity, u)) {
-        let _ = write!(attrs, " unit=\"{}\"", escape(u.0));
+        let _ = write!(attrs, " unit=\"{}\"", escape(&u.0));
     }
     if let Some(s) = v.start {
         let _ = write!(attrs, " start=\"{}\"", real(s));
@@ -324,7 +321,7 @@ pub fn model_description(
     if let Some(u) = opts.units {
         x.push_str("  <UnitDefinitions>\n");
         for def in units_used(table, u) {
-            x.push_str(&unit_element(def));
+            x.push_str(&unit_element(&def));
         }
         x.push_str("  </UnitDefinitions>\n");
     }

@@ -18,8 +18,11 @@ use super::xml::{
 };
 use crate::scene::Scene;
 
-/// The time unit, declared with the others when the FMU declares units.
-const SECOND: (&str, [i32; 3], f64) = ("s", [0, 0, 1], 1.0);
+/// The time unit of a system (`s`, `ms`, ...), declared with the others when the FMU
+/// declares units: `time` is in it.
+fn time_unit(u: crate::units::UnitSystem) -> (String, [i32; 3], f64) {
+    (u.time_name().to_string(), [0, 0, 1], u.factor([0, 0, 1]))
+}
 
 /// The complete FMI 3.0 modelDescription.xml text; `platforms` are the `binaries/`
 /// folders of the libraries `pack --binary` added (recorded in an annotation).
@@ -55,10 +58,11 @@ pub fn model_description(
     if let Some(u) = opts.units {
         x.push_str("  <UnitDefinitions>\n");
         let mut used = units_used(table, u);
-        if !used.iter().any(|d| d.0 == SECOND.0) {
-            used.push(SECOND);
+        let time = time_unit(u);
+        if !used.iter().any(|d| d.0 == time.0) {
+            used.push(time);
         }
-        for def in used {
+        for def in &used {
             x.push_str(&unit_element(def));
         }
         x.push_str("  </UnitDefinitions>\n");
@@ -70,11 +74,9 @@ pub fn model_description(
         " (when loggingOn or fmi3SetDebugLogging switches logging on)",
     ));
     x.push_str("  <ModelVariables>\n");
-    let time_unit = if opts.units.is_some() {
-        " unit=\"s\""
-    } else {
-        ""
-    };
+    let time_unit = opts
+        .units
+        .map_or_else(String::new, |u| format!(" unit=\"{}\"", time_unit(u).0));
     let _ = writeln!(
         x,
         "    <Float64 name=\"time\" valueReference=\"{}\" description=\"Simulation time \

@@ -20,7 +20,7 @@ use fxbody::fxb;
 use fxbody_import::fe::{self, Deck, SymMatrix};
 use fxbody_import::whole::spider::SpiderSpec;
 use fxbody_import::whole::{WholeModel, WholeOptions};
-use fxbody_import::{ImportError, Imported, Options, Support, Units};
+use fxbody_import::{ImportError, Imported, Options, Support};
 
 /// Arguments of `import`.
 #[derive(Debug, clap::Args)]
@@ -63,15 +63,20 @@ pub struct ImportArgs {
     /// modes so that statics at the nodes stay exact.
     #[arg(long)]
     pub fmax: Option<f64>,
-    /// Convert units, FROM:TO, each LENGTH-MASS-TIME (e.g. mm-t-s:mm-kg-ms).
-    #[arg(long)]
-    pub units: Option<String>,
-    /// FXB node IDs, comma-separated (default: every grid point).
-    #[arg(long, value_delimiter = ',')]
-    pub nodes: Option<Vec<i64>>,
-    /// Rayleigh damping ALPHA,BETA.
-    #[arg(long, value_delimiter = ',', num_args = 2)]
-    pub damping: Option<Vec<f64>>,
+    /// Units: FROM:TO converts from the matrices' system to the body's; one system says
+    /// the matrices are in it and the body stays in it. Each system SI, or
+    /// LENGTH-MASS-TIME with length m|cm|mm|um|km, mass kg|g|mg|t, time s|ms|us (e.g.
+    /// mm-t-s:mm-kg-ms, SI:mm-t-s, mm-kg-ms). Declare the body's system in the FMU with
+    /// `pack --units`.
+    #[arg(long, value_parser = crate::grammar::unit_conversion)]
+    pub units: Option<crate::grammar::Conversion>,
+    /// FXB node IDs, and ranges A-B, separated by commas and/or blanks (e.g. 101,105-110;
+    /// default: every grid point).
+    #[arg(long, value_parser = crate::grammar::node_list)]
+    pub nodes: Option<crate::grammar::NodeIds>,
+    /// Rayleigh damping ALPHA,BETA (1/s, s in the body's units; e.g. 5,1e-5).
+    #[arg(long, value_parser = crate::grammar::pair, value_name = "ALPHA,BETA")]
+    pub damping: Option<(f64, f64)>,
     /// Also write the report as JSON to this file.
     #[arg(long)]
     pub report: Option<PathBuf>,
@@ -229,10 +234,16 @@ fn read_whole_coords(args: &ImportArgs) -> Result<(Deck, String), String> {
 fn read_matrices(args: &ImportArgs) -> Result<(SymMatrix, SymMatrix), String> {
     let e = |e: fe::FeError| e.to_string();
     if let Some(model) = &args.model {
-        return Ok((
+        let (k, m) = (
             fe::read_dmig(model, &args.k_name).map_err(e)?,
             fe::read_dmig(model, &args.m_name).map_err(e)?,
-        ));
+        );
+        for a in [&k, &m] {
+            if let Some(w) = small_field_warning(a, model) {
+                eprintln!("fxbody import: warning: {w}");
+            }
+        }
+        return Ok((k, m));
     }
     let (Some(k), Some(m)) = (&args.stiffness, &args.mass) else {
         return Err(
@@ -251,6 +262,26 @@ fn read_matrices(args: &ImportArgs) -> Result<(SymMatrix, SymMatrix), String> {
     })
 }
 
+/// Values with fewer significant digits than this are warned about (a 1e-7 relative
+/// rounding and more).
+const WARN_DIGITS: u32 = 8;
+
+/// The warning for a DMIG matrix whose 8-character values carry fewer than
+/// [`WARN_DIGITS`] significant digits: the relative rounding of its values, and why it
+/// matters more than it seems (docs/IMPORT.md, "Precision").
+fn small_field_warning(a: &SymMatrix, file: &Path) -> Option<String> {
+    let d = a.small_field_digits.filter(|&d| d < WARN_DIGITS)?;
+    let rounding = 0.5 * 10f64.powi(1 - d as i32);
+    Some(format!(
+        "{}: DMIG {}: values written in 8 characters (small field) carry as few as {d} \
+         significant digits, a relative rounding of up to {rounding:.0e}; frequencies can \
+         move by much more where stiffness terms cancel (docs/IMPORT.md, \"Precision\"): \
+         write the matrices in large field (16 columns) or free field",
+        file.display(),
+        a.name
+    ))
+}
+
 /// `body.fxb` -> `body.nodes.csv`.
 fn coords_path(output: &Path) -> PathBuf {
     output.with_extension("nodes.csv")
@@ -260,7 +291,6 @@ fn coords_path(output: &Path) -> PathBuf {
 /// and name no option; the options that set that data are this command's to name.
 fn worded(e: &ImportError) -> String {
     match e {
-        ImportError::BadUnits { .. } => format!("--units: {e}"),
         ImportError::BadFmax(_) => format!("--fmax: {e}"),
         ImportError::BadDamping(..) => format!("--damping: {e}"),
         ImportError::BadNodes(_) => format!("--nodes: {e}"),
@@ -348,14 +378,9 @@ fn options(args: &ImportArgs) -> Result<Options, String> {
             _ => Support::Detect,
         },
         fmax: args.fmax,
-        units: args
-            .units
-            .as_deref()
-            .map(Units::parse)
-            .transpose()
-            .map_err(|e| worded(&e))?,
-        nodes: args.nodes.clone(),
-        damping: args.damping.as_ref().map(|d| (d[0], d[1])),
+        units: args.units.map(|c| c.factors()),
+        nodes: args.nodes.clone().map(|n| n.0),
+        damping: args.damping,
         naive_mass_r: args.naive_mass_r,
     })
 }
@@ -363,6 +388,12 @@ fn options(args: &ImportArgs) -> Result<Options, String> {
 /// Write the body, its coordinates and the JSON report; the report text for stdout.
 fn write(args: &ImportArgs, built: &Imported) -> Result<String, String> {
     let mut out = built.report.text();
+    if let Some(c) = args.units {
+        out.push_str(&format!(
+            "units: the body is in {} (declare them in the FMU with fxbody pack --units {})\n",
+            c.to, c.to
+        ));
+    }
     if let Some(path) = &args.report {
         let text = serde_json::to_string_pretty(&built.report.json())
             .map_err(|e| format!("--report: {e}"))?;

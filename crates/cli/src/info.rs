@@ -16,11 +16,14 @@ pub struct InfoArgs {
     /// Print one JSON object instead of text.
     #[arg(long)]
     pub json: bool,
-    /// Also report, at these node IDs (separated by commas and/or blanks), the share of
-    /// the static deflection each mode carries, and (free bodies) each mode's effective
-    /// mass: what truncation costs. With --json, the `modes` key of the one object.
-    #[arg(long, value_parser = crate::nodes::id_list)]
-    pub nodes: Option<crate::nodes::NodeIds>,
+    /// Also report, at these node IDs (and ranges A-B, separated by commas and/or
+    /// blanks), each mode's participation: the share of the node's flexibility in the
+    /// local modes (blocked bodies: of the static deflection; free bodies: relative to
+    /// the frame, under inertia relief) carried by the modes up to it, and (free bodies
+    /// whose modes carry mass with the rigid motion) the effective masses: what
+    /// truncation costs. With --json, the `modes` key of the one object.
+    #[arg(long, value_parser = crate::grammar::node_list)]
+    pub nodes: Option<crate::grammar::NodeIds>,
 }
 
 /// What `info` reports, computed once for both output forms.
@@ -59,7 +62,7 @@ pub fn run(args: &InfoArgs) -> Result<(), String> {
     let progress = super::progress::Progress::start("checking");
     let body =
         fxbody::body::load_reporting(&args.file, &mut |done, total| progress.update(done, total))
-            .map_err(|e| e.to_string())?;
+            .map_err(|e| not_a_body(&args.file).unwrap_or_else(|| e.to_string()))?;
     let body = Arc::new(body);
     // The node list is checked before anything is printed.
     let modes = match &args.nodes {
@@ -91,6 +94,32 @@ pub fn run(args: &InfoArgs) -> Result<(), String> {
     };
     print!("{out}");
     Ok(())
+}
+
+/// When `path` is a Radioss node deck (a `/NODE` keyword line in its first 64 KiB) rather
+/// than a body: the message saying so, and where such a file goes.
+pub fn not_a_body(path: &std::path::Path) -> Option<String> {
+    use std::io::Read;
+    // Only a regular file is looked into: a FIFO or a device would block or never end.
+    if !std::fs::metadata(path).ok()?.is_file() {
+        return None;
+    }
+    let mut head = Vec::new();
+    std::fs::File::open(path)
+        .ok()?
+        .take(64 * 1024)
+        .read_to_end(&mut head)
+        .ok()?;
+    let deck = head
+        .split(|&c| c == b'\n')
+        .any(|l| l.starts_with(b"/NODE") && l.get(5).is_none_or(|c| !c.is_ascii_alphanumeric()));
+    deck.then(|| {
+        format!(
+            "{}: this is a node deck (/NODE), not a body: give it to `pack --coords` or \
+             `import --coords`; info reads a flexible-body file (.fxb)",
+            path.display()
+        )
+    })
 }
 
 /// A number that reads back to the same f64; `null` when not finite.

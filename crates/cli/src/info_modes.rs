@@ -1,8 +1,16 @@
 //! `fxbody info --nodes ID,...`: what mode truncation costs at the nodes a scene couples
-//! to. For each mode of (K_L, m_L): its frequency, the cumulative share of the static
-//! deflection carried by the modes up to it at each chosen node and direction, and for
-//! a free body its effective mass along X, Y, Z. With `--json`, the JSON array that
-//! `info` puts under its `modes` key.
+//! to. For each mode of (K_L, m_L): its frequency and, at each chosen node and direction,
+//! the cumulative share of `sum_i phi_i^2 / omega_i^2` (the node's flexibility in the
+//! local modes) carried by the modes up to it. For a blocked body that flexibility is
+//! the static deflection under a unit load. A free body has no static deflection (a load
+//! accelerates it); the same sum is then the deflection relative to the frame with the
+//! load balanced by the body's rigid inertia (inertia relief), exactly so when the local
+//! modes are mass-orthogonal to rigid motion; the report says which. A free body's
+//! effective masses along X, Y, Z are printed only when a mode has one: local modes
+//! mass-orthogonal to rigid motion (free-free modes) carry no net momentum, and the
+//! report says so instead of printing a column of zeros. With `--json`, the JSON array
+//! that `info` puts under its `modes` key (`cumulative_static_share` for a blocked body,
+//! `cumulative_local_share` for a free one).
 //!
 //! An effective mass below [`ZERO_MASS`] times the total mass is printed as 0: it is
 //! round-off of the projection (about 1e-22 kg on a 0.75 kg body), not mass.
@@ -30,6 +38,11 @@ pub fn report(body: &Body, nodes: &[usize], json: bool) -> String {
     let name = |c: usize| format!("{}:{}", body.node_ids[nodes[c / 6]], DIRS[c % 6]);
     let mut cum = vec![0.0; 6 * nodes.len()];
     let mut o = String::new();
+    let share_key = if body.iblo {
+        "cumulative_static_share"
+    } else {
+        "cumulative_local_share"
+    };
     if json {
         o.push_str("[\n");
         for i in 0..nl {
@@ -45,7 +58,7 @@ pub fn report(body: &Body, nodes: &[usize], json: bool) -> String {
             });
             let _ = write!(
                 o,
-                "    {{\"mode\": {}, \"frequency_hz\": {:?}, \"cumulative_static_share\": {{{}}}, \"effective_mass\": {em}}}",
+                "    {{\"mode\": {}, \"frequency_hz\": {:?}, \"{share_key}\": {{{}}}, \"effective_mass\": {em}}}",
                 i + 1,
                 p.frequencies_hz[i],
                 shares.join(", ")
@@ -55,11 +68,9 @@ pub fn report(body: &Body, nodes: &[usize], json: bool) -> String {
         o.push_str("  ]\n");
         return o;
     }
-    o.push_str(
-        "\nper mode: cumulative share of the static deflection (unit load at the node and \
-         direction, global frame at P0) carried by the modes up to this one; truncating \
-         after a mode without static correction loses 100% minus that share\n",
-    );
+    // A free body's effective masses, printed only when some mode has one.
+    let eff = eff.filter(|e| e.iter().any(|&v| v != 0.0));
+    o.push_str(&heading(body, eff.is_some()));
     let _ = write!(o, "{:>5} {:>13}", "mode", "f (Hz)");
     for &c in &cols {
         let _ = write!(o, " {:>12}", name(c));
@@ -93,6 +104,40 @@ pub fn report(body: &Body, nodes: &[usize], json: bool) -> String {
             e.column(0).sum(),
             e.column(1).sum(),
             e.column(2).sum()
+        );
+    }
+    o
+}
+
+/// What the table's shares mean for this body, and why a free body's table has no
+/// static deflection (and, without effective masses, no such column).
+fn heading(body: &Body, with_mass: bool) -> String {
+    let tail = "; truncating after a mode without static correction loses 100% minus that \
+                share\n";
+    if body.iblo {
+        return format!(
+            "\nper mode: cumulative share of the static deflection (unit load at the node \
+             and direction, global frame at P0) carried by the modes up to this one{tail}"
+        );
+    }
+    let mut o = format!(
+        "\nper mode: each node's participation in the local modes: the cumulative share of \
+         its flexibility relative to the frame, sum of phi_i^2 / omega_i^2 (unit load at the \
+         node and direction, global frame at P0), carried by the modes up to this one{tail}\
+         (a free body has no static deflection: a load accelerates the whole body; the \
+         share is that of the deflection relative to the frame with the load balanced by \
+         the rigid inertia, inertia relief{})\n",
+        if with_mass {
+            ", only approximately here: these local modes carry mass with the rigid motion"
+        } else {
+            ""
+        }
+    );
+    if !with_mass {
+        o.push_str(
+            "effective masses: none (every local mode is mass-orthogonal to rigid motion and \
+             carries no net momentum; the rigid-body mass, centre of gravity and inertia \
+             are above)\n",
         );
     }
     o

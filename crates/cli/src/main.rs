@@ -4,19 +4,23 @@
 //! compiled in here.
 
 mod demo;
+mod grammar;
 mod import;
 mod info;
 mod info_modes;
-mod nodes;
 mod pack;
 mod progress;
 mod reduce;
 
 use clap::{Parser, Subcommand};
 
-/// Radioss flexible bodies (/FXBODY, .fxb) for FMI co-simulation.
+/// What `fxbody --help` says first: what the tool does for its users.
+const ABOUT: &str = "Turn a Radioss flexible body (/FXBODY, .fxb) or FE matrices into an FMI 2.0 \
+                     co-simulation unit (.fmu) for any FMI master, C program or fmpy";
+
+/// The command line: one subcommand per job.
 #[derive(Debug, Parser)]
-#[command(name = "fxbody", version, about)]
+#[command(name = "fxbody", version, about = ABOUT)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -37,7 +41,7 @@ enum Command {
 }
 
 fn main() {
-    let cli = Cli::parse();
+    let cli = Cli::parse_from(grammar::join_pairs(std::env::args_os()));
     let result = match &cli.command {
         Command::Info(args) => info::run(args),
         Command::Pack(args) => pack::run(args),

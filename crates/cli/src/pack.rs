@@ -26,11 +26,11 @@ pub struct PackArgs {
     /// rigid modes (frame origin at 0).
     #[arg(long)]
     pub coords: Option<PathBuf>,
-    /// Exposed node IDs, separated by commas and/or blanks (default: all nodes of the
-    /// body).
-    #[arg(long, value_parser = crate::nodes::id_list, conflicts_with = "nodes_file")]
-    pub nodes: Option<crate::nodes::NodeIds>,
-    /// Exposed node IDs from a file: one ID per line or comma-separated, `#` starts a
+    /// Exposed node IDs, and ranges A-B, separated by commas and/or blanks (e.g.
+    /// 121,111 or 101-121; default: all nodes of the body).
+    #[arg(long, value_parser = crate::grammar::node_list, conflicts_with = "nodes_file")]
+    pub nodes: Option<crate::grammar::NodeIds>,
+    /// Exposed node IDs from a file, in the form of --nodes on each line, `#` starts a
     /// comment.
     #[arg(long)]
     pub nodes_file: Option<PathBuf>,
@@ -42,11 +42,14 @@ pub struct PackArgs {
     /// Model name (default: the file name without extension).
     #[arg(long)]
     pub name: Option<String>,
-    /// Declare units: SI (m, kg, s) or mm-t-s (mm, tonne, s). Default: none declared.
-    #[arg(long)]
-    pub units: Option<String>,
-    /// The FMU library to embed (default: $FXBODY_LIB, else libfxbody.so next to this
-    /// executable).
+    /// Declare the body's units: SI, or LENGTH-MASS-TIME with length m|cm|mm|um|km, mass
+    /// kg|g|mg|t, time s|ms|us (e.g. m-kg-s, mm-t-s, mm-kg-ms). Default: none declared.
+    #[arg(long, value_parser = crate::grammar::unit_system)]
+    pub units: Option<fxbody::units::UnitSystem>,
+    /// The FMU library to embed. Without it, the first found of: $FXBODY_LIB;
+    /// libfxbody.so next to this executable (a build's target/release/); one folder up;
+    /// PREFIX/lib/fxbody/libfxbody.so for this executable at PREFIX/bin/fxbody (what
+    /// scripts/install.sh PREFIX installs).
     #[arg(long)]
     pub lib: Option<PathBuf>,
     /// Also store the body file in the FMU (resources/source.fxb), for traceability
@@ -125,7 +128,7 @@ pub fn run(args: &PackArgs) -> Result<(), String> {
         coords: args.coords.clone(),
         nodes,
         name: args.name.clone(),
-        units: args.units.clone(),
+        units: args.units.map(|u| u.name()),
         embed_source: args.embed_source,
     };
     let method = match args.method.as_deref() {
@@ -181,54 +184,12 @@ pub fn run(args: &PackArgs) -> Result<(), String> {
     Ok(())
 }
 
-/// Node IDs from a `--nodes-file`: one per line or comma-separated (blanks also
-/// separate), `#` starts a comment. Errors name the file and line.
+/// Node IDs from a `--nodes-file` ([`crate::grammar::node_file_text`]). Errors name the
+/// file and line.
 pub fn read_nodes_file(path: &std::path::Path) -> Result<Vec<i64>, String> {
     use fxbody::fxb::input::{Limit, read_input};
     let bytes = read_input("--nodes-file", path, Limit::NodeList).map_err(|e| e.to_string())?;
     let text = String::from_utf8(bytes)
         .map_err(|_| format!("--nodes-file {}: not UTF-8 text", path.display()))?;
-    parse_nodes(&text, &path.display().to_string())
-}
-
-/// Parse the text of a nodes file (see [`read_nodes_file`]).
-pub fn parse_nodes(text: &str, name: &str) -> Result<Vec<i64>, String> {
-    let mut ids = Vec::new();
-    for (k, line) in text.lines().enumerate() {
-        let line = line.split('#').next().unwrap_or("");
-        for tok in line
-            .split([',', ' ', '\t'])
-            .filter(|t| !t.trim().is_empty())
-        {
-            let tok = tok.trim();
-            ids.push(tok.parse::<i64>().map_err(|_| {
-                format!(
-                    "{name}:{}: expected an integer node ID, found '{}'",
-                    k + 1,
-                    fxbody::fxb::fields::shown(tok.as_bytes())
-                )
-            })?);
-        }
-    }
-    if ids.is_empty() {
-        return Err(format!("{name}: no node IDs"));
-    }
-    Ok(ids)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::parse_nodes;
-
-    #[test]
-    fn nodes_file_forms() {
-        let ids = parse_nodes(
-            "# tip and root\n121, 101\n111 # mid\n\n 105\t106\n",
-            "n.txt",
-        );
-        assert_eq!(ids.unwrap(), vec![121, 101, 111, 105, 106]);
-        let e = parse_nodes("121\n12x\n", "n.txt").unwrap_err();
-        assert_eq!(e, "n.txt:2: expected an integer node ID, found '12x'");
-        assert!(parse_nodes("# none\n", "n.txt").is_err());
-    }
+    crate::grammar::node_file_text(&text, &path.display().to_string())
 }

@@ -18,9 +18,10 @@ pub struct ReduceArgs {
     /// The reduced `.fxb` file to write.
     #[arg(short, long)]
     pub output: PathBuf,
-    /// Node IDs to keep, comma-separated (default: all).
-    #[arg(long, value_parser = crate::nodes::id_list)]
-    pub nodes: Option<crate::nodes::NodeIds>,
+    /// Node IDs to keep, and ranges A-B, separated by commas and/or blanks (default:
+    /// all).
+    #[arg(long, value_parser = crate::grammar::node_list)]
+    pub nodes: Option<crate::grammar::NodeIds>,
     /// Keep the modes of (K_L, m_L) up to this frequency, Hz (default: all).
     #[arg(long)]
     pub fmax: Option<f64>,
@@ -28,7 +29,8 @@ pub struct ReduceArgs {
 
 /// Run `reduce`: write the file and a summary on stdout, or the error message.
 pub fn run(args: &ReduceArgs) -> Result<(), String> {
-    let body = fxbody::body::load(&args.file).map_err(|e| e.to_string())?;
+    let body = fxbody::body::load(&args.file)
+        .map_err(|e| crate::info::not_a_body(&args.file).unwrap_or_else(|| e.to_string()))?;
     for w in &body.warnings {
         eprintln!("warning: {w}");
     }

@@ -87,6 +87,9 @@ pub struct SymMatrix {
     /// (i, j) indices into dofs with i <= j, each pair once, zeros kept out, sorted by
     /// (i, j).
     pub terms: Vec<(usize, usize, f64)>,
+    /// DMIG only: the fewest significant digits of a value that fills its 8-column
+    /// small field (rounded to fit it), when there is one; `None` otherwise.
+    pub small_field_digits: Option<u32>,
 }
 
 impl SymMatrix {
@@ -134,6 +137,7 @@ impl SymMatrix {
             name,
             dofs: order.iter().map(|&k| dofs[k]).collect(),
             terms,
+            small_field_digits: None,
         }
     }
 

@@ -252,14 +252,6 @@ pub enum ImportError {
     /// edge of what a body can be).
     #[error("the built body is not valid: {0}")]
     Invalid(String),
-    /// Unit systems that are not `FROM:TO`, each `LENGTH-MASS-TIME` ([`Units::parse`]).
-    #[error("unit systems '{text}': expected {expected}")]
-    BadUnits {
-        /// The text given.
-        text: String,
-        /// What was expected there.
-        expected: &'static str,
-    },
     /// A cut-off frequency that is not finite and positive.
     #[error("the cut-off frequency must be finite and > 0 Hz, got {}", num(*.0))]
     BadFmax(f64),

@@ -1,12 +1,13 @@
-//! Unit conversion between Radioss-style unit systems `LENGTH-MASS-TIME`, such as
-//! `mm-t-s` (N, MPa) or `mm-kg-ms` (kN, GPa): `--units FROM:TO`.
+//! Unit conversion of the matrices and coordinates between two unit systems of the
+//! product's grammar ([`fxbody::units::UnitSystem`]: `SI` or `LENGTH-MASS-TIME`, such as
+//! `mm-t-s` (N, MPa) or `mm-kg-ms` (kN, GPa)).
 //!
 //! With `f_L`, `f_m`, `f_T` the factors that turn a FROM quantity into TO units,
 //! `f_E = f_m f_L^2 / f_T^2` (energy), and `f_i = f_L` for a translation DOF, 1 for a
 //! rotation or a scalar point: `K_ij *= f_E / (f_i f_j)`, `M_ij *= f_m f_L^2 / (f_i f_j)`,
 //! coordinates `*= f_L`.
 
-use super::ImportError;
+use fxbody::units::{UnitSystem, power_of_ten};
 
 /// Conversion factors from the matrices' units to the body's.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -19,67 +20,16 @@ pub struct Units {
     pub time: f64,
 }
 
-fn length(s: &str) -> Option<f64> {
-    Some(match s {
-        "m" => 1.0,
-        "cm" => 1e-2,
-        "mm" => 1e-3,
-        "um" => 1e-6,
-        "km" => 1e3,
-        _ => return None,
-    })
-}
-
-fn mass(s: &str) -> Option<f64> {
-    Some(match s {
-        "kg" => 1.0,
-        "g" => 1e-3,
-        "mg" => 1e-6,
-        "t" => 1e3,
-        _ => return None,
-    })
-}
-
-fn time(s: &str) -> Option<f64> {
-    Some(match s {
-        "s" => 1.0,
-        "ms" => 1e-3,
-        "us" => 1e-6,
-        _ => return None,
-    })
-}
-
-/// One system `L-M-T` in SI: (metres, kilograms, seconds) per unit.
-fn system(s: &str) -> Result<[f64; 3], ImportError> {
-    let parts: Vec<&str> = s.split('-').collect();
-    let bad = || ImportError::BadUnits {
-        text: s.to_string(),
-        expected: "LENGTH-MASS-TIME with length m|cm|mm|um|km, mass kg|g|mg|t, time \
-                   s|ms|us (e.g. mm-t-s)",
-    };
-    if parts.len() != 3 {
-        return Err(bad());
-    }
-    Ok([
-        length(parts[0]).ok_or_else(bad)?,
-        mass(parts[1]).ok_or_else(bad)?,
-        time(parts[2]).ok_or_else(bad)?,
-    ])
-}
-
 impl Units {
-    /// Parse `FROM:TO`, e.g. `mm-t-s:mm-kg-ms`.
-    pub fn parse(s: &str) -> Result<Units, ImportError> {
-        let (from, to) = s.split_once(':').ok_or_else(|| ImportError::BadUnits {
-            text: s.to_string(),
-            expected: "FROM:TO (e.g. mm-t-s:m-kg-s)",
-        })?;
-        let (a, b) = (system(from)?, system(to)?);
-        Ok(Units {
-            length: a[0] / b[0],
-            mass: a[1] / b[1],
-            time: a[2] / b[2],
-        })
+    /// The factors from `from` to `to`: exact powers of ten (every unit of the grammar is
+    /// a power of ten of the SI one), so `1e-3`, never `0.0010000000000000002`.
+    pub fn between(from: UnitSystem, to: UnitSystem) -> Units {
+        let f = |dims| power_of_ten(from.exponent(dims) - to.exponent(dims));
+        Units {
+            length: f([0, 1, 0]),
+            mass: f([1, 0, 0]),
+            time: f([0, 0, 1]),
+        }
     }
 
     /// Energy factor `f_m f_L^2 / f_T^2`.
@@ -90,32 +40,19 @@ impl Units {
 
 #[cfg(test)]
 mod tests {
-    use super::Units;
+    use super::{UnitSystem, Units};
 
     #[test]
     fn mm_t_s_to_mm_kg_ms_scales_k_by_1e_minus_3_and_m_by_1e3() {
-        let u = Units::parse("mm-t-s:mm-kg-ms").unwrap();
+        let sys = |s| UnitSystem::parse(s).unwrap();
+        let u = Units::between(sys("mm-t-s"), sys("mm-kg-ms"));
         // K_tt: f_E / f_L^2 = f_m / f_T^2 = 1e3 / 1e6 = 1e-3 (N/mm -> kN/mm)
-        assert!((u.energy() / (u.length * u.length) - 1e-3).abs() < 1e-15);
-        // M_tt: f_m = 1e3 (t -> kg)
-        assert!((u.mass - 1e3).abs() < 1e-12);
-        assert!(Units::parse("mm-t").is_err());
-        assert!(Units::parse("mm-lb-s:m-kg-s").is_err());
-    }
-
-    /// The library's error carries the text and what was expected, and names no
-    /// command-line option (the `fxbody import` command words it with `--units`).
-    #[test]
-    fn a_bad_unit_system_is_data_not_an_option_name() {
-        let e = Units::parse("mm-lb-s:m-kg-s").unwrap_err();
-        assert!(
-            matches!(&e, super::ImportError::BadUnits { text, .. } if text == "mm-lb-s"),
-            "{e:?}"
-        );
-        let e = Units::parse("mm-t-s").unwrap_err().to_string();
-        assert!(
-            e.contains("'mm-t-s'") && e.contains("FROM:TO") && !e.contains("--"),
-            "{e}"
-        );
+        assert_eq!(u.energy() / (u.length * u.length), 1e-3);
+        // M_tt: f_m = 1e3 (t -> kg), exactly
+        assert_eq!(u.mass, 1e3);
+        assert_eq!(u.length, 1.0);
+        assert_eq!(u.time, 1e3);
+        // m -> mm: lengths times 1000
+        assert_eq!(Units::between(UnitSystem::SI, sys("mm-kg-s")).length, 1e3);
     }
 }

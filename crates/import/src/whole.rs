@@ -478,6 +478,7 @@ fn small_model(
             name: name.to_string(),
             dofs: dofs.clone(),
             terms,
+            small_field_digits: None,
         }
     };
     let coords = conns.iter().map(|c| (c.id, deck.nodes[&c.id])).collect();

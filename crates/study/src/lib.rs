@@ -321,9 +321,9 @@ pub fn run(args: &StudyArgs) -> Result<(), String> {
                     v.label,
                     p.error,
                     p.cpu_per_s,
-                    p.failure
-                        .as_deref()
-                        .map(|f| format!("  FAILED: {f}"))
+                    p.outcome
+                        .as_ref()
+                        .map(|f| format!("  {f}"))
                         .unwrap_or_default()
                 );
                 rows.push(Row {
@@ -336,7 +336,7 @@ pub fn run(args: &StudyArgs) -> Result<(), String> {
         }
     }
     let mut csv = String::from(
-        "scene,method,h_s,steps,error_rel_peak,cpu_s_per_sim_s,ns_per_step,compared_samples,failure\n",
+        "scene,method,h_s,steps,error_rel_peak,cpu_s_per_sim_s,ns_per_step,compared_samples,outcome\n",
     );
     for r in &rows {
         let case = cases
@@ -354,7 +354,10 @@ pub fn run(args: &StudyArgs) -> Result<(), String> {
             r.point.cpu_per_s,
             r.point.ns_per_step,
             r.point.compared,
-            r.point.failure.as_deref().unwrap_or("").replace(',', ";")
+            r.point
+                .outcome
+                .as_ref()
+                .map_or(String::new(), |f| f.to_string().replace(',', ";"))
         );
     }
     write(&args.out.join("study.csv"), &csv)?;
@@ -475,7 +478,7 @@ pub fn run(args: &StudyArgs) -> Result<(), String> {
             for r in rows
                 .iter()
                 .filter(|r| {
-                    r.scene == p[1] && ((r.h - h).abs() < 1e-9 * h) && r.point.failure.is_none()
+                    r.scene == p[1] && ((r.h - h).abs() < 1e-9 * h) && r.point.outcome.is_none()
                 })
                 .filter(same_method)
             {
@@ -580,7 +583,8 @@ pub fn run(args: &StudyArgs) -> Result<(), String> {
             )
         })
         .collect();
-    md.push_str(&accept::report(&pts));
+    let (accept_md, failed) = accept::report(&pts);
+    md.push_str(&accept_md);
     md.push_str("## Stability map\n\n");
     md.push_str(&stab_md);
     let _ = writeln!(
@@ -609,7 +613,11 @@ pub fn run(args: &StudyArgs) -> Result<(), String> {
         args.out.display(),
         start.elapsed().as_secs_f64()
     );
-    Ok(())
+    if failed.is_empty() {
+        Ok(())
+    } else {
+        Err(format!("acceptance check failed: {}", failed.join("; ")))
+    }
 }
 
 fn write(path: &std::path::Path, text: &str) -> Result<(), String> {
@@ -651,7 +659,11 @@ fn spin_map(args: &StudyArgs) -> Result<(), String> {
                 t.omega,
                 t.frame_error,
                 t.energy_change,
-                if t.passes() { "pass" } else { "FAIL" }
+                if t.passes() {
+                    "within tolerance"
+                } else {
+                    "beyond tolerance"
+                }
             );
             let _ = writeln!(
                 csv,

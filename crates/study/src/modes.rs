@@ -87,7 +87,7 @@ pub fn sweep(
 /// `modes.csv` text and the Markdown table.
 pub fn report(rows: &[ModeRow]) -> (String, String) {
     let mut csv = String::from(
-        "scene,cutoff,fmax_hz,modes_kept,method,h_s,error_rel_peak,cpu_s_per_sim_s,ns_per_step,failure\n",
+        "scene,cutoff,fmax_hz,modes_kept,method,h_s,error_rel_peak,cpu_s_per_sim_s,ns_per_step,outcome\n",
     );
     let mut md = String::from(
         "| scene | cutoff | fmax (Hz) | modes kept | method | error / peak | CPU s per sim. s |\n|---|---|---|---|---|---|---|\n",
@@ -105,7 +105,10 @@ pub fn report(rows: &[ModeRow]) -> (String, String) {
             r.point.error,
             r.point.cpu_per_s,
             r.point.ns_per_step,
-            r.point.failure.as_deref().unwrap_or("").replace(',', ";")
+            r.point
+                .outcome
+                .as_ref()
+                .map_or(String::new(), |f| f.to_string().replace(',', ";"))
         );
         let fmax = if r.fmax_hz.is_finite() {
             format!("{:.1}", r.fmax_hz)

@@ -4,7 +4,7 @@
 use std::hint::black_box;
 use std::time::Instant;
 
-use fxbody::solver::{Solver, build};
+use fxbody::solver::{Solver, SolverError, build};
 
 use super::scenes::{Case, Reference, Variant};
 
@@ -19,8 +19,38 @@ pub struct Point {
     pub ns_per_step: f64,
     /// Number of reference samples compared.
     pub compared: usize,
-    /// Why the run failed, if it did (error and time are then NaN).
-    pub failure: Option<String>,
+    /// Why the point has no result, if it has none (error and time are then NaN): data
+    /// of the map, not a failure of the study.
+    pub outcome: Option<Outcome>,
+}
+
+/// A point without a result: the method went unstable at this step, or refused it.
+/// Expected at large steps (that is what the study maps), so it is reported as data.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Outcome {
+    /// The run grew without bound (a non-finite output or state).
+    Unstable(String),
+    /// The method refused the body or the step (for example a step needing more internal
+    /// steps than it allows).
+    Refused(String),
+}
+
+impl std::fmt::Display for Outcome {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Outcome::Unstable(why) => write!(f, "unstable ({why})"),
+            Outcome::Refused(why) => write!(f, "refused ({why})"),
+        }
+    }
+}
+
+impl From<SolverError> for Outcome {
+    fn from(e: SolverError) -> Outcome {
+        match e {
+            SolverError::NonFinite { .. } => Outcome::Unstable(e.to_string()),
+            _ => Outcome::Refused(e.to_string()),
+        }
+    }
 }
 
 /// Loads for every step: (value, rate) of the tip's fy.
@@ -35,7 +65,7 @@ fn drive(
     loads: &[(f64, f64)],
     h: f64,
     mut each: impl FnMut(usize, &[f64; 3]),
-) -> Result<(), String> {
+) -> Result<(), Outcome> {
     let mut f = [0.0; 6];
     let mut r = [0.0; 6];
     let mut pos = [0.0; 3];
@@ -43,12 +73,12 @@ fn drive(
     let rates = loads.iter().any(|l| l.1 != 0.0);
     for (i, &(v, rate)) in loads.iter().enumerate() {
         f[1] = v;
-        s.set_loads(&f).map_err(|e| e.to_string())?;
+        s.set_loads(&f)?;
         if rates {
             r[1] = rate;
-            s.set_load_rates(&r).map_err(|e| e.to_string())?;
+            s.set_load_rates(&r)?;
         }
-        s.step(h).map_err(|e| e.to_string())?;
+        s.step(h)?;
         s.positions(&mut pos);
         let u = [pos[0] - x0[0], pos[1] - x0[1], pos[2] - x0[2]];
         each(i, &u);
@@ -73,7 +103,8 @@ pub fn history(
         if (i + 1) % every == 0 {
             out.push(pick(u, components));
         }
-    })?;
+    })
+    .map_err(|e| e.to_string())?;
     Ok(out)
 }
 
@@ -112,16 +143,19 @@ pub fn measure(case: &Case, v: &Variant, h: f64, min_time: f64) -> Point {
             cpu_per_s: f64::NAN,
             ns_per_step: f64::NAN,
             compared: 0,
-            failure: Some(e),
+            outcome: Some(e),
         },
     }
 }
 
-fn measure_inner(case: &Case, v: &Variant, h: f64, min_time: f64) -> Result<Point, String> {
-    let reference = case.reference.as_ref().ok_or("no reference")?;
+fn measure_inner(case: &Case, v: &Variant, h: f64, min_time: f64) -> Result<Point, Outcome> {
+    let reference = case
+        .reference
+        .as_ref()
+        .ok_or_else(|| Outcome::Refused("no reference".into()))?;
     let n = (case.duration / h).round() as usize;
     let loads = load_table(case, h, n);
-    let mut s = build(&case.scene, v.method, &v.opts).map_err(|e| e.to_string())?;
+    let mut s = build(&case.scene, v.method, &v.opts)?;
     let s0 = s.state();
     let mut worst: f64 = 0.0;
     let mut compared = 0;
@@ -134,7 +168,7 @@ fn measure_inner(case: &Case, v: &Variant, h: f64, min_time: f64) -> Result<Poin
         }
     })?;
     if !finite {
-        return Err("non-finite output".into());
+        return Err(Outcome::Unstable("non-finite output".into()));
     }
     let peak = reference.peak();
     // Timing: the same loop without the comparison.
@@ -142,7 +176,7 @@ fn measure_inner(case: &Case, v: &Variant, h: f64, min_time: f64) -> Result<Poin
     let mut total = 0.0;
     let mut reps = 0;
     while reps < 3 || (total < min_time && reps < 200) {
-        s.set_state(&s0).map_err(|e| e.to_string())?;
+        s.set_state(&s0)?;
         let start = Instant::now();
         drive(s.as_mut(), case, &loads, h, |_, u| {
             black_box(u);
@@ -157,6 +191,6 @@ fn measure_inner(case: &Case, v: &Variant, h: f64, min_time: f64) -> Result<Poin
         cpu_per_s: best / (n as f64 * h),
         ns_per_step: best / n as f64 * 1e9,
         compared,
-        failure: None,
+        outcome: None,
     })
 }

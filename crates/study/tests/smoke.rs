@@ -12,7 +12,11 @@
 //!   flexibility added) stays within 0.5% of the full FE step response with the exact
 //!   method (recomputed here too), and the error does not grow as modes are added (it is
 //!   checked against the full FE model, not against our own untruncated run);
-//! - the chart has one panel per scene.
+//! - the chart has one panel per scene;
+//! - the stability maps are data: no failure word on stderr, every point without a
+//!   result says "unstable (why)" or "refused (why)" in the `outcome` column, the spin
+//!   trials beyond the frame tolerance say so, and the run exits 0 (issue 25.6; only a
+//!   failed acceptance check makes it exit non-zero, crates/study/src/accept.rs).
 //!
 //! Being an integration test of the study package, it makes `cargo test` build
 //! target/release/fxbody-study, which tests/all/cli runs through
@@ -96,7 +100,7 @@ fn same(got: f64, want: f64, what: &str) {
     );
 }
 
-fn run_quick() -> PathBuf {
+fn run_quick() -> (PathBuf, String) {
     let out = std::env::temp_dir().join(format!("fxbody_study_smoke_{}", std::process::id()));
     let fixtures = fixtures();
     let status = Command::new(env!("CARGO_BIN_EXE_fxbody-study"))
@@ -111,7 +115,7 @@ fn run_quick() -> PathBuf {
         "fxbody-study --quick failed: {}",
         String::from_utf8_lossy(&status.stderr)
     );
-    out
+    (out, String::from_utf8_lossy(&status.stderr).into_owned())
 }
 
 fn csv(path: &Path) -> Vec<Vec<String>> {
@@ -125,8 +129,27 @@ fn csv(path: &Path) -> Vec<Vec<String>> {
 
 #[test]
 fn quick_study_matches_independent_references() {
-    let out = run_quick();
+    let (out, stderr) = run_quick();
+    assert!(
+        !stderr.contains("FAIL"),
+        "a failure word on stderr:\n{stderr}"
+    );
     let rows = csv(&out.join("study.csv"));
+    let outcomes: Vec<&String> = rows.iter().map(|r| r.last().unwrap()).collect();
+    assert!(
+        outcomes
+            .iter()
+            .all(|o| o.is_empty() || o.starts_with("unstable (") || o.starts_with("refused (")),
+        "{outcomes:?}"
+    );
+    // The spin map has trials beyond the frame tolerance (large rotations per step):
+    // reported as data, in spin.csv (`passes` false) and on stderr, never as a failure.
+    let spin = csv(&out.join("spin.csv"));
+    let beyond = spin.iter().filter(|r| r[8] == "false").count();
+    assert!(
+        beyond > 0 && stderr.contains("beyond tolerance"),
+        "{beyond} trials beyond tolerance"
+    );
     let exact_step: Vec<(f64, f64)> = rows
         .iter()
         .filter(|r| r[0] == "cantilever step" && r[1] == "exact")

@@ -7,7 +7,9 @@ use std::process::{Command, Output};
 use crate::common::root;
 
 mod first_use;
+mod grammar;
 mod info;
+mod info_nodes;
 mod input_kinds;
 mod inputs;
 mod numbers;
@@ -47,6 +49,12 @@ pub fn pack_cantilever(args: &[&str]) -> Output {
         "fixtures/cantilever.nodes.rad",
     ];
     run(&[&base[..], args].concat())
+}
+
+/// The stdout of a run that must succeed (its stderr shown when it did not).
+pub fn ok(o: &Output) -> String {
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    String::from_utf8(o.stdout.clone()).unwrap()
 }
 
 /// Assert that `o` is a refusal (exit code 2) whose message holds `says`.

@@ -41,6 +41,7 @@ pub fn parse_dmig(reader: impl BufRead, file: &str, name: &str) -> Result<SymMat
     let mut first_column: Option<usize> = None;
     let mut terms = Terms::new(file);
     let mut includes: Option<usize> = None;
+    let mut digits: Option<u32> = None;
     while let Some(card) =
         deck.next_card(|n| n.eq_ignore_ascii_case(b"DMIG") || n.eq_ignore_ascii_case(b"INCLUDE"))?
     {
@@ -69,7 +70,7 @@ pub fn parse_dmig(reader: impl BufRead, file: &str, name: &str) -> Result<SymMat
             header = Some(read_header(&card, file, name)?);
         } else {
             first_column.get_or_insert(card.line);
-            read_column(&card, file, &mut terms)?;
+            read_column(&card, file, &mut terms, &mut digits)?;
         }
     }
     let Some(header) = header else {
@@ -111,7 +112,23 @@ pub fn parse_dmig(reader: impl BufRead, file: &str, name: &str) -> Result<SymMat
     } else {
         Storage::Either
     };
-    terms.finish(name.to_string(), storage)
+    let mut m = terms.finish(name.to_string(), storage)?;
+    m.small_field_digits = digits;
+    Ok(m)
+}
+
+/// The significant digits of a real's text (`1.2345-5`: 5), the mantissa's digits
+/// after leading zeros.
+fn significant_digits(text: &[u8]) -> u32 {
+    let body = text
+        .strip_prefix(b"-")
+        .or(text.strip_prefix(b"+"))
+        .unwrap_or(text);
+    let end = (1..body.len())
+        .find(|&k| matches!(body[k], b'e' | b'E' | b'd' | b'D' | b'+' | b'-'))
+        .unwrap_or(body.len());
+    let digits = body[..end].iter().filter(|c| c.is_ascii_digit());
+    digits.skip_while(|&&c| c == b'0').count() as u32
 }
 
 fn read_header(card: &Card, file: &str, name: &str) -> Result<Header, FeError> {
@@ -209,7 +226,12 @@ fn comp(f: Field, g: i64, file: &str) -> Result<u8, FeError> {
     ))
 }
 
-fn read_column(card: &Card, file: &str, terms: &mut Terms) -> Result<(), FeError> {
+fn read_column(
+    card: &Card,
+    file: &str,
+    terms: &mut Terms,
+    digits: &mut Option<u32>,
+) -> Result<(), FeError> {
     let line = card.line;
     let gj_f = card.field(1);
     let Some(gj) = id(gj_f, file, "GJ (the column's grid or point ID)")? else {
@@ -269,6 +291,10 @@ fn read_column(card: &Card, file: &str, terms: &mut Terms) -> Result<(), FeError
                 ),
             ));
         }
+        if a.width == 8 && trim(a.text).len() == 8 && value != 0.0 {
+            let d = significant_digits(trim(a.text));
+            *digits = Some(digits.map_or(d, |v| v.min(d)));
+        }
         let row = terms.dof(Dof { id: gi, comp: ci }, a.line)?;
         terms.push(row, col, value, a.line);
     }
@@ -280,6 +306,21 @@ fn read_column(card: &Card, file: &str, terms: &mut Terms) -> Result<(), FeError
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn significant_digits_of_a_field() {
+        for (t, d) in [
+            ("1.2345-5", 5),
+            ("-1.234+4", 4),
+            (".1234567", 7),
+            ("0.001234", 4),
+            ("12345678", 8),
+            ("1.23E-04", 3),
+            ("-.12D+03", 2),
+        ] {
+            assert_eq!(significant_digits(t.as_bytes()), d, "{t}");
+        }
+    }
 
     fn g(id: i64, comp: u8) -> Dof {
         Dof { id, comp }

@@ -246,7 +246,12 @@ impl<'a> Terms<'a> {
                 terms.push((i, j, value));
             }
         }
-        Ok(SymMatrix { name, dofs, terms })
+        Ok(SymMatrix {
+            name,
+            dofs,
+            terms,
+            small_field_digits: None,
+        })
     }
 }
 
