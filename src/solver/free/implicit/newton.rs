@@ -311,10 +311,18 @@ impl Implicit {
             }
         }
         if refresh {
-            // A_RL = M_C + bt K_C, row-major.
+            // A_RL = M_C + bt K_C + gt 2 M_C(P_dot), row-major (the last: the derivative
+            // of the rigid rows' force 2 M_C(P_dot) v_L by v_L, `drag`).
+            let pd = drag::frame_rate(&w.vn.as_slice()[..nr]);
             for i in 0..nr {
                 for j in 0..nl {
-                    w.arl[i * nl + j] = w.mc[(i, j)] + bt * w.kc[(i, j)];
+                    let mut g = 0.0;
+                    if gt != 0.0 {
+                        for (kl, &pkl) in pd.iter().enumerate() {
+                            g += pkl * m.m_c_kl[kl][(i, j)];
+                        }
+                    }
+                    w.arl[i * nl + j] = w.mc[(i, j)] + bt * w.kc[(i, j)] + 2.0 * gt * g;
                 }
             }
             // Reduced matrix: A_RR - A_RL Y.
