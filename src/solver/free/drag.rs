@@ -1,6 +1,7 @@
 //! The terms that make the free-body equations the Lagrange equations of a kinetic
 //! energy (FORMULATION.md section 3, "the kinetic energy and its equations"): the one
-//! place every free method that takes them (split, implicit) reads them from, written as
+//! place the free methods that take them read them from (implicit; split where the modes
+//! do not drag rigid motion; the explicit method stays the Radioss scheme), written as
 //! functions of the state so that a derivative evaluator can call them as well.
 //!
 //! The kinetic energy of section 3 leaves out the part `P_dot Phi_L alpha` of the node

@@ -102,13 +102,9 @@ fn load(path: &str) -> Body {
 /// built the naive way (tests/data/freefree_naive.fxb) is 1e-3 off after a tenth of the
 /// run. Release build: about 15 s.
 ///
-/// Not here: the truss tower (fixtures/truss.fxb). Its rigid part is exact too (a
-/// bar's mass is the same in every direction: figures at round-off), but its local
-/// modes come from a support and drag rigid motion (`M_C^T G != 0`), and the
-/// formulation leaves out the `d(M_C)/dt v_L` terms (FORMULATION.md section 3): spun
-/// at 0.018 of its first frequency it gains energy and blows up after about 300 rad with
-/// the split and explicit methods (the implicit method damps it). A limit of the
-/// equations, not of the body file.
+/// The truss tower, whose local modes drag rigid motion, is in
+/// `truss_implicit_conserves_energy_and_angular_momentum` (implicit method; the split
+/// method does not take the terms of `solver::free::drag` on such bodies yet).
 #[test]
 fn exact_free_beam_keeps_its_angular_momentum_over_a_million_steps() {
     let body = load("fixtures/freefree.fxb");
