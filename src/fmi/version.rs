@@ -1,8 +1,8 @@
 //! What differs between FMI 2.0 and FMI 3.0 at the boundary, in one place: the names of
 //! states and functions in messages, and the text conventions of FMI 3.0's logger. The
-//! instance, the gate ([`super::instance::enter_as`]: state mask, panic barrier, logging)
+//! instance, the gate (`super::instance::enter_as`: state mask, panic barrier, logging)
 //! and the model are shared; an export tells the gate which version it belongs to, and
-//! the instance knows which version made it ([`super::instance::Instance::version`]).
+//! the instance knows which version made it (`super::instance::Instance::version`).
 //!
 //! Status values need no adapter: FMI 3.0's five are FMI 2.0's first five, the same
 //! numbers (checked below), so the gate's status serves both.
@@ -23,7 +23,7 @@ const _: () = assert!(
 );
 
 /// The interface an instance serves (FMI 2.0's fmuType, FMI 3.0's instantiation
-/// function). Model Exchange joins here, with its states in [`FmiState`].
+/// function). Model Exchange joins here, with its states in `FmiState`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Interface {
     /// Co-simulation: fmi2Instantiate(fmi2CoSimulation), fmi3InstantiateCoSimulation.

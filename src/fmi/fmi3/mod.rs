@@ -3,10 +3,10 @@
 //! Float64 and Int32 variables, fmi3DoStep without early return, output derivatives,
 //! FMU states); every other function logs why it is not provided and returns fmi3Error.
 //! Each export is an adapter over the shared instance, gate and bodies of the FMI 2.0
-//! layer ([`super::instance::enter_as`], [`super::exports`], [`super::values`],
+//! layer (`super::instance::enter_as`, [`super::exports`], [`super::values`],
 //! [`super::fmu_state`]): what differs is FMI 3.0's argument conventions (nValues, the
 //! independent variable `time`, the resource path, fmi3DoStep's outputs), its state
-//! table ([`state`]) and its logger ([`super::version`]).
+//! table (`state`) and its logger ([`super::version`]).
 
 pub mod clocks;
 pub mod exports;

@@ -1,7 +1,7 @@
 //! FMI 3.0's Model Exchange functions. This FMU provides co-simulation only (no
 //! `<ModelExchange>` element, fmi3InstantiateModelExchange refuses), so each is an
 //! illegal call outside the Model Exchange states a co-simulation instance never enters
-//! (Event Mode, Continuous-Time Mode; [`super::state`] has their masks from the
+//! (Event Mode, Continuous-Time Mode; `super::state` has their masks from the
 //! standard) and, where the standard also allows it in a co-simulation state
 //! (initialisation mode, Terminated, the counts), refused with a logged reason. Model
 //! Exchange's bodies go here.
