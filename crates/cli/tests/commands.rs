@@ -44,11 +44,30 @@ fn study_is_refused_as_an_unknown_command() {
 }
 
 /// The import library's errors name no option (issue 27.6): the command words them. A
-/// unit system it cannot read is refused naming `--units` once, with the text given.
+/// cut-off frequency the library refuses is named `--fmax` once, with the value given;
+/// a unit system the command's grammar cannot read is refused naming `--units` and the
+/// expected form.
 #[test]
 fn the_command_names_the_option_of_a_bad_value() {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
     let out = std::env::temp_dir().join(format!("fxbody_cli_units_{}.fxb", std::process::id()));
+    let o = Command::new(env!("CARGO_BIN_EXE_fxbody"))
+        .arg("import")
+        .arg(root.join("tests/data/fe/punch.pch"))
+        .arg("--coords")
+        .arg(root.join("tests/data/fe/nodes.csv"))
+        .args(["--fmax", "0", "-o"])
+        .arg(&out)
+        .output()
+        .expect("the fxbody binary runs");
+    assert_eq!(o.status.code(), Some(2));
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        e.contains("--fmax: the cut-off frequency must be finite and > 0 Hz, got 0")
+            && e.matches("--fmax").count() == 1,
+        "{e}"
+    );
+    assert!(!out.exists());
     let o = Command::new(env!("CARGO_BIN_EXE_fxbody"))
         .arg("import")
         .arg(root.join("tests/data/fe/punch.pch"))
@@ -61,7 +80,7 @@ fn the_command_names_the_option_of_a_bad_value() {
     assert_eq!(o.status.code(), Some(2));
     let e = String::from_utf8_lossy(&o.stderr);
     assert!(
-        e.contains("--units: unit systems 'mm-lb-s'") && e.matches("--units").count() == 1,
+        e.contains("'--units <UNITS>'") && e.contains("found 'mm-lb-s:m-kg-s'"),
         "{e}"
     );
     assert!(!out.exists());
