@@ -491,9 +491,17 @@ impl Continuous for Exact {
         let fallback = if fallback > 0.0 { fallback } else { 1.0 };
         for j in 0..nl {
             let a = amp(j);
-            let a = if a.is_finite() && a > 0.0 { a } else { fallback };
+            let a = if a.is_finite() && a > 0.0 {
+                a
+            } else {
+                fallback
+            };
             out[j] = a;
-            out[nl + j] = if self.omega[j] > 0.0 { a * self.omega[j] } else { a };
+            out[nl + j] = if self.omega[j] > 0.0 {
+                a * self.omega[j]
+            } else {
+                a
+            };
         }
     }
 

@@ -59,25 +59,28 @@ impl Simulation {
 
     /// The continuous states (fmi2GetContinuousStates).
     pub fn states(&mut self, out: &mut [f64]) -> Result<(), SimulationError> {
-        let c = self.continuous()?;
-        check_len(out.len(), c.state_count())?;
-        c.states(out);
-        Ok(())
+        self.fill(out, |c, o| c.states(o))
     }
 
     /// The state derivatives (fmi2GetDerivatives).
     pub fn derivatives(&mut self, out: &mut [f64]) -> Result<(), SimulationError> {
-        let c = self.continuous()?;
-        check_len(out.len(), c.state_count())?;
-        c.derivatives(out);
-        Ok(())
+        self.fill(out, |c, o| c.derivatives(o))
     }
 
     /// The states' nominal magnitudes (fmi2GetNominalsOfContinuousStates).
     pub fn nominals(&mut self, out: &mut [f64]) -> Result<(), SimulationError> {
+        self.fill(out, |c, o| c.nominals(o))
+    }
+
+    /// One value per state into `out` by `read`, its length checked first.
+    fn fill(
+        &mut self,
+        out: &mut [f64],
+        read: impl Fn(&dyn Continuous, &mut [f64]),
+    ) -> Result<(), SimulationError> {
         let c = self.continuous()?;
         check_len(out.len(), c.state_count())?;
-        c.nominals(out);
+        read(c, out);
         Ok(())
     }
 

@@ -16,9 +16,14 @@ use crate::common::fixture_scene;
 
 /// A model of `scene` on the exact method, started at 0.
 fn model(scene: &Scene) -> Simulation {
+    on_method(scene, 3)
+}
+
+/// A model of `scene` on method `method`, started at 0.
+fn on_method(scene: &Scene, method: i32) -> Simulation {
     let mut m = Simulation::new(scene.clone(), "me-test".into());
-    let method = m.table.vars.iter().find(|v| v.name == "method").unwrap().vr;
-    m.set_integer(method, 3, Phase::Configuring).unwrap();
+    let vr = m.table.vars.iter().find(|v| v.name == "method").unwrap().vr;
+    m.set_integer(vr, method, Phase::Configuring).unwrap();
     m.setup(0.0, None).unwrap();
     m
 }
@@ -30,7 +35,13 @@ fn vr(m: &Simulation, kind: Kind) -> u32 {
 /// The tip's y position under the load history `load(t)` (held over each of `n` steps
 /// of `h`), by the co-simulation exact method and by Runge-Kutta 4 on the Model Exchange
 /// derivatives with `sub` sub-steps per step; both at every step end.
-fn runs(scene: &Scene, load: &dyn Fn(f64) -> f64, h: f64, n: usize, sub: usize) -> (Vec<f64>, Vec<f64>) {
+fn runs(
+    scene: &Scene,
+    load: &dyn Fn(f64) -> f64,
+    h: f64,
+    n: usize,
+    sub: usize,
+) -> (Vec<f64>, Vec<f64>) {
     let mut cs = model(scene);
     let mut me = model(scene);
     let fy = vr(&cs, Kind::Load { node: 0, comp: 1 });
@@ -40,8 +51,13 @@ fn runs(scene: &Scene, load: &dyn Fn(f64) -> f64, h: f64, n: usize, sub: usize) 
     let nx = me.state_count().unwrap();
     let mut x = vec![0.0; nx];
     me.states(&mut x).unwrap();
-    let (mut k1, mut k2, mut k3, mut k4, mut xs) =
-        (vec![0.0; nx], vec![0.0; nx], vec![0.0; nx], vec![0.0; nx], vec![0.0; nx]);
+    let (mut k1, mut k2, mut k3, mut k4, mut xs) = (
+        vec![0.0; nx],
+        vec![0.0; nx],
+        vec![0.0; nx],
+        vec![0.0; nx],
+        vec![0.0; nx],
+    );
     let dt = h / sub as f64;
     for i in 0..n {
         let t = i as f64 * h;
@@ -58,11 +74,20 @@ fn runs(scene: &Scene, load: &dyn Fn(f64) -> f64, h: f64, n: usize, sub: usize) 
                 me.derivatives(k).unwrap();
             };
             eval(t0, &x, &mut k1);
-            xs.iter_mut().zip(&x).zip(&k1).for_each(|((o, x), k)| *o = x + 0.5 * dt * k);
+            xs.iter_mut()
+                .zip(&x)
+                .zip(&k1)
+                .for_each(|((o, x), k)| *o = x + 0.5 * dt * k);
             eval(t0 + 0.5 * dt, &xs, &mut k2);
-            xs.iter_mut().zip(&x).zip(&k2).for_each(|((o, x), k)| *o = x + 0.5 * dt * k);
+            xs.iter_mut()
+                .zip(&x)
+                .zip(&k2)
+                .for_each(|((o, x), k)| *o = x + 0.5 * dt * k);
             eval(t0 + 0.5 * dt, &xs, &mut k3);
-            xs.iter_mut().zip(&x).zip(&k3).for_each(|((o, x), k)| *o = x + dt * k);
+            xs.iter_mut()
+                .zip(&x)
+                .zip(&k3)
+                .for_each(|((o, x), k)| *o = x + dt * k);
             eval(t0 + dt, &xs, &mut k4);
             for j in 0..nx {
                 x[j] += dt / 6.0 * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j]);
@@ -80,7 +105,10 @@ fn runs(scene: &Scene, load: &dyn Fn(f64) -> f64, h: f64, n: usize, sub: usize) 
 /// largest displacement of `a`.
 fn rel_gap(a: &[f64], b: &[f64], y0: f64) -> f64 {
     let peak = a.iter().fold(0.0f64, |m, v| m.max((v - y0).abs()));
-    let gap = a.iter().zip(b).fold(0.0f64, |m, (p, q)| m.max((p - q).abs()));
+    let gap = a
+        .iter()
+        .zip(b)
+        .fold(0.0f64, |m, (p, q)| m.max((p - q).abs()));
     gap / peak
 }
 
@@ -146,9 +174,19 @@ fn me_jacobian_is_the_finite_difference_of_the_derivatives() {
     m.nominals(&mut nom).unwrap();
     assert!(nom.iter().all(|v| v.is_finite() && *v > 0.0), "{nom:?}");
     // A state away from rest, loads on, then one coordinate moved at a time.
-    let x0: Vec<f64> = (0..nx).map(|j| nom[j] * (0.3 + 0.1 * j as f64).sin()).collect();
+    let x0: Vec<f64> = (0..nx)
+        .map(|j| nom[j] * (0.3 + 0.1 * j as f64).sin())
+        .collect();
     let loads: Vec<u32> = (0..nu)
-        .map(|k| vr(&m, Kind::Load { node: k / 6, comp: k % 6 }))
+        .map(|k| {
+            vr(
+                &m,
+                Kind::Load {
+                    node: k / 6,
+                    comp: k % 6,
+                },
+            )
+        })
         .collect();
     for (k, &l) in loads.iter().enumerate() {
         m.set_real(l, 0.5 + k as f64, Phase::Running).unwrap();
@@ -206,9 +244,7 @@ fn me_refuses_a_method_without_a_first_order_form_and_bad_states() {
     let mut after = vec![0.0; nx];
     m.states(&mut after).unwrap();
     assert_eq!(before, after, "a refused state changed the model");
-    let mut imp = Simulation::new(scene.clone(), "me-test".into());
-    let method = imp.table.vars.iter().find(|v| v.name == "method").unwrap().vr;
-    imp.set_integer(method, 2, Phase::Configuring).unwrap();
+    let mut imp = on_method(&scene, 2);
     let e = imp.state_count().unwrap_err().to_string();
     assert!(e.contains("Model Exchange"), "{e}");
 }
