@@ -16,6 +16,7 @@
 
 use crate::scene::Scene;
 
+pub mod continuous;
 pub mod damping;
 mod dense;
 pub mod exact;
@@ -319,6 +320,11 @@ pub trait Solver: Send {
     /// The method's bound on a step before it is taken, where it has one (the exact
     /// method); `None` for every other.
     fn bounded(&mut self) -> Option<&mut dyn BoundedStep> {
+        None
+    }
+    /// The method as a first-order system its caller integrates (Model Exchange), where
+    /// it has one; `None` for every other.
+    fn continuous(&mut self) -> Option<&mut dyn continuous::Continuous> {
         None
     }
 }

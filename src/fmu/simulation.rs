@@ -14,6 +14,7 @@ use crate::scene::Scene;
 use crate::scene::io::{ResourceError, Resources, load_resources};
 use crate::solver::{self, Method, Options, Solver, SolverWarning};
 
+mod me;
 mod outputs;
 mod step;
 

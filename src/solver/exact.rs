@@ -26,6 +26,7 @@
 
 use nalgebra::{DMatrix, DVector};
 
+use super::continuous::{Continuous, check_states, modal_acceleration};
 use super::damping::LocalDamping;
 use super::expm::mode_coefficients;
 use super::nodes::{Exposed, LocalCoords, modal_basis, modal_solver_items};
@@ -206,14 +207,19 @@ impl Exact {
         for (i, o) in out[..n].iter_mut().enumerate() {
             let row = self.io.row(i / 3, off + i % 3);
             *o = (0..self.y.len())
-                .map(|j| {
-                    let a = self.io.force(j, self.time)
-                        - self.damp[j] * self.yd[j]
-                        - self.w2[j] * self.y[j];
-                    row[j] * a
-                })
+                .map(|j| row[j] * self.acceleration(j))
                 .sum();
         }
+    }
+}
+
+impl Exact {
+    /// The modal acceleration of mode `j` now: the equation every step solves exactly
+    /// ([`modal_acceleration`]).
+    #[inline]
+    fn acceleration(&self, j: usize) -> f64 {
+        let g = self.io.force(j, self.time);
+        modal_acceleration(g, self.damp[j], self.w2[j], self.y[j], self.yd[j])
     }
 }
 
@@ -278,6 +284,10 @@ impl Solver for Exact {
     fn bounded(&mut self) -> Option<&mut dyn BoundedStep> {
         Some(self)
     }
+
+    fn continuous(&mut self) -> Option<&mut dyn Continuous> {
+        Some(self)
+    }
 }
 
 impl Restorable for Exact {
@@ -328,6 +338,93 @@ impl Exact {
         self.time = t0 + h;
         self.alpha.invalidate();
         Ok(())
+    }
+}
+
+/// The states are `y` then `y'` (the modal amplitudes and velocities of [`Exact`]).
+impl Continuous for Exact {
+    fn state_count(&self) -> usize {
+        2 * self.y.len()
+    }
+
+    fn states(&self, out: &mut [f64]) {
+        let nl = self.y.len();
+        out[..nl].copy_from_slice(self.y.as_slice());
+        out[nl..2 * nl].copy_from_slice(self.yd.as_slice());
+    }
+
+    fn set_states(&mut self, time: f64, x: &[f64]) -> Result<(), SolverError> {
+        let nl = self.y.len();
+        check_states(x, 2 * nl)?;
+        self.y.as_mut_slice().copy_from_slice(&x[..nl]);
+        self.yd.as_mut_slice().copy_from_slice(&x[nl..]);
+        self.time = time;
+        self.alpha.invalidate();
+        self.rollback.forget();
+        Ok(())
+    }
+
+    fn set_time(&mut self, time: f64) {
+        self.time = time;
+    }
+
+    fn derivatives(&self, out: &mut [f64]) {
+        let nl = self.y.len();
+        out[..nl].copy_from_slice(self.yd.as_slice());
+        for (j, o) in out[nl..2 * nl].iter_mut().enumerate() {
+            *o = self.acceleration(j);
+        }
+    }
+
+    /// Per mode, the static amplitude under the largest unit load on an exposed node
+    /// (`max_c |g_jc| / w^2`), and `w` times it for the velocity; a mode no exposed
+    /// load reaches gets the largest amplitude of the others (1 if none has one).
+    fn nominals(&self, out: &mut [f64]) {
+        let nl = self.y.len();
+        let gt = &self.io.gt;
+        let amp = |j: usize| {
+            let g = gt.row(j).iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            g / self.w2[j]
+        };
+        let fallback = (0..nl)
+            .map(amp)
+            .filter(|a| a.is_finite() && *a > 0.0)
+            .fold(0.0f64, f64::max);
+        let fallback = if fallback > 0.0 { fallback } else { 1.0 };
+        for j in 0..nl {
+            let a = amp(j);
+            let a = if a.is_finite() && a > 0.0 {
+                a
+            } else {
+                fallback
+            };
+            out[j] = a;
+            out[nl + j] = if self.omega[j] > 0.0 {
+                a * self.omega[j]
+            } else {
+                a
+            };
+        }
+    }
+
+    /// `A = [[0, I], [-diag(w^2), -diag(d)]]`, `B = [[0], [gt]]`.
+    fn jacobian(&self, a: &mut [f64], b: &mut [f64]) -> bool {
+        let nl = self.y.len();
+        let n = 2 * nl;
+        a[..n * n].fill(0.0);
+        for j in 0..nl {
+            a[(nl + j) * n + j] = 1.0;
+            a[j * n + nl + j] = -self.w2[j];
+            a[(nl + j) * n + nl + j] = -self.damp[j];
+        }
+        let loads = self.io.gt.ncols();
+        b[..n * loads].fill(0.0);
+        for c in 0..loads {
+            for j in 0..nl {
+                b[c * n + nl + j] = self.io.gt[(j, c)];
+            }
+        }
+        true
     }
 }
 

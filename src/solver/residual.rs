@@ -228,4 +228,9 @@ impl Solver for Residual {
         self.mark.forget();
         Ok(())
     }
+    /// The kept modes' system: the dropped modes follow the loads and have no state.
+    fn continuous(&mut self) -> Option<&mut dyn super::continuous::Continuous> {
+        self.mark.forget();
+        self.inner.continuous()
+    }
 }

@@ -9,6 +9,7 @@ mod fmi3_calls;
 mod fmi3_runs;
 mod header;
 mod host_abi;
+mod me;
 mod method_param;
 mod model_description;
 mod nonfinite;

@@ -1,0 +1,75 @@
+//! A method's equations as a first-order system `x' = f(t, x, u)`, for masters that
+//! integrate the body themselves (FMI Model Exchange). The states are the method's own
+//! (blocked bodies: the modal amplitudes `y` then the modal velocities `y'`), so the
+//! derivatives come from the very equations the method's step solves, and the node
+//! outputs of a state set here are read through the method's output code.
+//!
+//! A blocked mode obeys `y'' + d y' + w^2 y = g` ([`super::exact`]): [`modal_acceleration`]
+//! is that equation, evaluated by the exact method's node accelerations and by its
+//! [`Continuous::derivatives`] alike. The system is linear, `x' = A x + B u`, and
+//! [`Continuous::jacobian`] gives `A` and `B` exactly.
+
+use super::SolverError;
+
+/// The modal acceleration `y'' = g - d y' - w^2 y` of one blocked mode under the modal
+/// load `g`, with damping `d` and squared frequency `w2`.
+#[inline]
+pub fn modal_acceleration(g: f64, d: f64, w2: f64, y: f64, yd: f64) -> f64 {
+    g - d * yd - w2 * y
+}
+
+/// A method that can be integrated by its caller. Nothing here allocates.
+pub trait Continuous {
+    /// The number of continuous states.
+    fn state_count(&self) -> usize;
+    /// The states into `out` (length [`Continuous::state_count`]).
+    fn states(&self, out: &mut [f64]);
+    /// Set time and states (all or nothing: a wrong length or a non-finite value changes
+    /// nothing).
+    fn set_states(&mut self, time: f64, x: &[f64]) -> Result<(), SolverError>;
+    /// Set the time alone (the loads' rates make the load a function of time).
+    fn set_time(&mut self, time: f64);
+    /// The state derivatives at the current time, states and loads, into `out`.
+    fn derivatives(&self, out: &mut [f64]);
+    /// A typical magnitude of each state (for the master's error control).
+    fn nominals(&self, out: &mut [f64]);
+    /// `dx'/dx` (`n x n`) and `dx'/du` (`n x 6m`, loads in the caller's order), column
+    /// major, into `a` and `b`; `false` where the method has no exact Jacobian.
+    fn jacobian(&self, a: &mut [f64], b: &mut [f64]) -> bool;
+}
+
+/// Check a state vector for [`Continuous::set_states`].
+pub fn check_states(x: &[f64], n: usize) -> Result<(), SolverError> {
+    if x.len() != n {
+        return Err(SolverError::BadLength {
+            what: "continuous states",
+            expected: n,
+            found: x.len(),
+        });
+    }
+    if let Some(i) = x.iter().position(|v| !v.is_finite()) {
+        return Err(SolverError::BadInput(format!(
+            "continuous state {i} is not finite ({})",
+            x[i]
+        )));
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn modal_acceleration_is_the_damped_oscillator() {
+        // y'' + 0.2 y' + 4 y = 1 at y = 0.5, y' = -1: y'' = 1 + 0.2 - 2 = -0.8.
+        assert!((modal_acceleration(1.0, 0.2, 4.0, 0.5, -1.0) + 0.8).abs() < 1e-15);
+    }
+
+    #[test]
+    fn states_are_checked() {
+        assert!(check_states(&[1.0, 2.0], 2).is_ok());
+        assert!(check_states(&[1.0], 2).is_err());
+        assert!(check_states(&[1.0, f64::NAN], 2).is_err());
+    }
+}
