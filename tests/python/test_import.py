@@ -486,7 +486,7 @@ def test_error_too_large(tmp_path):
     im.write_csv(tmp_path / "nodes.csv", list(range(1, 1002)), np.zeros((1001, 3)))
     r = run_import("--stiffness", tmp_path / "K.mtx", "--mass", tmp_path / "M.mtx", "--coords",
                    tmp_path / "nodes.csv", "-o", tmp_path / "x.fxb", ok=False)
-    assert "is a whole model (3001 DOFs): give --fmax" in r.stderr, r.stderr
+    assert "is a whole model (3001 DOFs)" in r.stderr and "give --fmax" in r.stderr, r.stderr
 
 
 def test_units_conversion(model, tmp_path):
