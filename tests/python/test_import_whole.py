@@ -382,6 +382,46 @@ def test_craig_bampton_reduction_equals_scipy_craig_bampton(bracket, tmp_path):
     assert err < 1e-8, err
 
 
+def test_craig_bampton_error_estimates_at_octave_cutoffs(bracket, tmp_path):
+    """`--reduction craig-bampton` on the blocked bracket (spider B the interface) at
+    octave cut-offs of the fixed-interface spectrum (fmax = 1.001 f1, 2 f1, 4 f1, f1 its
+    first frequency, from scipy's eigsh on K_ii, M_ii): the report's estimated frequency
+    error of every mode is within 15% of the true error, f_body / f_full - 1, the full
+    model's frequencies from scipy's shift-invert eigsh on the whole K and M. Modes whose
+    true error is below 1e-8 (the body's frequencies equal the Craig-Bampton model's to
+    1e-8, so below that the true error is round-off) are left out and counted."""
+    k, m = full_matrix(bracket, "blocked", "sti"), full_matrix(bracket, "blocked", "mas")
+    dofs = (bracket / "blocked.dof").read_text().split()
+    conn = [dofs.index(f"{n}.{c}") for n in (900003, 900004) for c in (1, 2, 3)]
+    inner = np.setdiff1d(np.arange(k.shape[0]), conn)
+    kii, mii = k[inner][:, inner].tocsc(), m[inner][:, inner].tocsc()
+    f1 = np.sqrt(spla.eigsh(kii, k=1, M=mii, sigma=0, which="LM",
+                            return_eigenvectors=False)[0]) / (2 * np.pi)
+    lam = spla.eigsh(k, k=40, M=m, sigma=0, which="LM", return_eigenvectors=False)
+    full = np.sort(np.sqrt(lam) / (2 * np.pi))
+    checked, skipped = 0, 0
+    for octave in (1.001, 2.0, 4.0):
+        report_path = tmp_path / f"cb{octave}.json"
+        out = run("import", bracket / "blocked.inp", "--fmax", octave * f1, "--reduction",
+                  "craig-bampton", "-o", tmp_path / "cb.fxb", "--report", report_path)
+        assert "estimated frequency error" in out, out
+        report = json.loads(report_path.read_text())
+        ours = np.array(report["frequencies_hz"])
+        est = np.array(report["whole_model"]["cb_error_estimates"])
+        assert len(est) == len(ours) and len(ours) < len(full), (len(est), len(ours))
+        true = ours / full[: len(ours)] - 1
+        assert (true > -1e-8).all(), true
+        for mode, (e, t) in enumerate(zip(est, true)):
+            if t < 1e-8:
+                skipped += 1
+                continue
+            checked += 1
+            print(f"fmax {octave:g} f1, mode {mode + 1}: true {t:.3e}, estimate {e:.3e}")
+            assert abs(e / t - 1) < 0.15, (octave, mode + 1, e, t)
+    print(f"Craig-Bampton error estimates: {checked} within 15%, {skipped} below 1e-8 left out")
+    assert checked >= 10, checked
+
+
 def test_progress_on_a_terminal_only(bracket, tmp_path):
     """The stage display: on a terminal each stage (read, order and factor, eigen-solve,
     static modes, projection, body, write) is named; with --quiet, or when stderr is not

@@ -98,6 +98,15 @@ impl Report {
                     w.fmax,
                     w.static_modes
                 );
+                let _ = writeln!(
+                    o,
+                    "estimated frequency error against the full model, per elastic mode: {}",
+                    w.cb_error_estimates
+                        .iter()
+                        .map(|e| format!("{e:.2e}"))
+                        .collect::<Vec<_>>()
+                        .join(" ")
+                );
             } else {
                 let _ = writeln!(
                     o,
@@ -235,6 +244,7 @@ impl Report {
                 "dropped_basis": w.dropped,
                 "lanczos_steps": w.lanczos_steps,
                 "reduction": if w.craig_bampton { "craig-bampton" } else { "modes" },
+                "cb_error_estimates": w.cb_error_estimates,
             })),
         })
     }
