@@ -226,10 +226,14 @@ def test_setup_commands_are_the_demo_and_the_suite(walk):
     work, _ = walk
     for name in ("cantilever.fmu", "cantilever_tip.csv", "cantilever_tip.svg"):
         assert (work / "out" / name).is_file(), (name, out)
-    tip = np.loadtxt(work / "out" / "cantilever_tip.csv", delimiter=",", skiprows=1)
-    # The demo's own table: time, FMU tip deflection, full-FE reference (check_peak's floor).
-    assert tip.shape[1] >= 3, tip.shape
-    err = np.abs(tip[:, 1] - tip[:, 2]).max() / np.abs(tip[:, 2]).max()
+    tip = np.genfromtxt(work / "out" / "cantilever_tip.csv", delimiter=",", names=True)
+    # The FMU's tip deflection against the full-FE step response read here, not the
+    # demo's own copy of it (0.5%, check_peak's floor; the exact method is at 0.07%).
+    resp = next(r for r in reference("cantilever")["responses"] if r["name"] == "step")
+    t, uy = np.array(resp["t"]), np.array(resp["nodes"]["121"]["uy"])
+    assert len(tip) > 100 and tip["time"][-1] <= t[-1] + 1e-12, tip["time"][-1]
+    want = np.interp(tip["time"], t, uy)
+    err = np.abs(tip["uy_fmu"] - want).max() / np.abs(want).max()
     assert err <= FLOOR, err
 
 
@@ -275,7 +279,7 @@ def test_readme_states_the_full_fe_peak():
     stated = re.findall(r"deflection: (\S+) m in the full finite-element model", README.read_text())
     assert len(stated) == 1
     want = check_peak(float(stated[0]))
-    assert f"{want:.4e}" == stated[0], (want, stated)
+    assert float(f"{want:.4e}") == float(stated[0]), (want, stated)  # to its 5 digits
 
 
 MASTER_BLOCKS = {"### fmpy (FMI 2.0 and 3.0) and the fmu-manipulation-toolbox container": 3,
