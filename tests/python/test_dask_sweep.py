@@ -90,13 +90,13 @@ def test_sweep_on_a_local_cluster_equals_the_serial_runs(tip_fmu, cluster, seria
 
 
 def test_readme_code_runs_against_a_scheduler_address(tip_fmu, cluster, serial, tmp_path):
-    """The README's code for a multi-machine cluster, with its scheduler address
+    """docs/MASTERS.md's code for a multi-machine cluster, with its scheduler address
     (tcp://scheduler:8786) replaced by the LocalCluster's, run as a script from a folder
     laid out like the repository; and the command line with --scheduler. Both tables
     equal the serial runs."""
     from test_readme import section_blocks
 
-    [(lang, code)] = section_blocks("## Parameter sweeps on a Dask cluster")[""]
+    [(lang, code)] = section_blocks("## Parameter sweeps on a Dask cluster", REPO / "docs" / "MASTERS.md")[""]
     assert lang == "python" and "tcp://scheduler:8786" in code
     os.symlink(REPO / "examples", tmp_path / "examples")
     (tmp_path / "out").mkdir()

@@ -642,20 +642,20 @@ def test_small_field_dmig_warns_and_costs_frequency(tmp_path):
 
 
 def test_readme_import_commands_write_only_into_out(tmp_path):
-    """The README's import walkthrough commands (the indented `mkdir`/`fxbody` lines of
-    "## From your FE model to an FMU"), run as written from a folder laid out like the
-    repository: they succeed and write nothing but out/ (issue 25: the walkthrough left
-    untracked files in the repository's root)."""
-    lines = (REPO / "README.md").read_text().splitlines()
-    start = lines.index("## From your FE model to an FMU")
-    section = lines[start + 1:]
-    section = section[:next(i for i, l in enumerate(section) if l.startswith("## "))]
-    cmds = [l.strip() for l in section if l.startswith("    mkdir ") or l.startswith("    fxbody ")]
-    assert [c.split()[1] for c in cmds if c.startswith("fxbody")] == ["import", "pack"], cmds
+    """The README's Nastran walkthrough commands (the sh block of "### A Nastran punch"),
+    run as written from a folder laid out like the repository: they succeed and write
+    nothing but out/ (issue 25: the walkthrough left untracked files in the repository's
+    root)."""
+    from test_readme import section_blocks
+
+    [script] = [code for lang, code in section_blocks("## From your FE model to an FMU")["### A Nastran punch"]
+                if lang == "sh"]
+    cmds = [l.strip() for l in script.splitlines() if l.strip()]
+    assert [c.split()[1] for c in cmds if c.startswith("target/release/fxbody")] == ["import", "pack"], cmds
     os.symlink(FIXTURES, tmp_path / "fixtures")
     for c in cmds:
         argv = c.split()
-        if argv[0] == "fxbody":
+        if argv[0] == "target/release/fxbody":
             argv[0] = str(EXE)
         r = subprocess.run(argv, cwd=tmp_path, capture_output=True, text=True)
         assert r.returncode == 0, (c, r.stderr)
