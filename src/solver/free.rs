@@ -77,20 +77,15 @@ macro_rules! free_solver_sampled_velocity {
         }
 
         fn kinetic_energy(&self) -> f64 {
-            self.m.kinetic_energy(&self.v, &self.p) + self.m.drag_energy(&self.q, &self.v)
+            self.m.kinetic_energy(&self.v, &self.p)
         }
 
         fn momentum(&self) -> Option<[f64; 3]> {
-            let (a, b) = (
-                self.m.momentum(&self.v, &self.p),
-                self.m.drag_momentum(&self.q, &self.v),
-            );
-            Some([a[0] + b[0], a[1] + b[1], a[2] + b[2]])
+            Some(self.m.momentum(&self.v, &self.p))
         }
     };
 }
 
-mod drag;
 pub mod explicit;
 pub mod implicit;
 mod lu;
@@ -468,22 +463,6 @@ impl FreeScene {
             * (0..self.nl)
                 .map(|j| self.m_l[j] * vl[j] * vl[j])
                 .sum::<f64>()
-    }
-
-    /// The kinetic energy's part `v_R^T M_C(P_dot) alpha` that the split and implicit
-    /// methods' equations keep (`drag`, FORMULATION.md section 3).
-    pub fn drag_energy(&self, q: &DVector<f64>, v: &DVector<f64>) -> f64 {
-        let z = drag::products(&self.m_c_kl, &q.as_slice()[self.nr..]);
-        drag::energy(&z, &v.as_slice()[..self.nr])
-    }
-
-    /// The linear momentum's part `s_c^T A(alpha) v_R` from the same energy term.
-    pub fn drag_momentum(&self, q: &DVector<f64>, v: &DVector<f64>) -> [f64; 3] {
-        let nr = self.nr;
-        let z = drag::products(&self.m_c_kl, &q.as_slice()[nr..]);
-        let mut av = [0.0; 15];
-        drag::add_mass(&z, &v.as_slice()[..nr], 1.0, &mut av[..nr]);
-        std::array::from_fn(|c| (0..4).map(|j| av[3 * j + c]).sum())
     }
 
     /// Linear momentum `s_c^T (M_R v_R + M_C(P) v_L)` for the three global axes c

@@ -251,18 +251,6 @@ impl Implicit {
             }
             w.res[nr + j] = s;
         }
-        // The quadratic-velocity force of the rigid rows (`drag`; its mass term is zero
-        // at the start, alpha = 0).
-        let zero = [0.0; 15];
-        super::drag::add_rigid_terms(
-            &m.m_c_kl,
-            &self.q.as_slice()[nr..],
-            &self.v.as_slice()[..nr],
-            &self.v.as_slice()[nr..],
-            &zero[..nr],
-            -1.0,
-            &mut w.res[..nr],
-        );
         // Constraint rows: the second time derivative of the constraints,
         // `d.b = -|w|^2` per edge and `B a_12 - a_rot = -dB/dt v_12`.
         let sc = m.mass_scale;

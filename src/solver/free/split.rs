@@ -30,7 +30,6 @@ mod rigid;
 
 use nalgebra::{DMatrix, DVector, Matrix3, Matrix6, SMatrix, Vector3, Vector6};
 
-use super::drag;
 use super::{
     FreeScene, Loads, MAX_FRAME_ERROR, SINGULAR_RATIO, frame_error, frame_invalid, point_offset,
     singular_error, spin_warning,
@@ -274,9 +273,8 @@ impl Split {
 
     /// Loads on the local modes at time `t` with the frame's velocity `v6`, into `out`
     /// (local coordinates): `F_L + G_L - M_C^T (c + G M6^-1 Q6)`, with
-    /// `Q6 = G^T (F_R + G_R - K_C alpha - M_R c - A(alpha) c - 2 M_C(P_dot) v_L)`
-    /// (returned; the last two from `drag`). `w.mc`, `w.kc` must hold the current frame's
-    /// matrices, `w.alpha` the local coordinates and `w.vl` their velocities.
+    /// `Q6 = G^T (F_R + G_R - K_C alpha - M_R c)` (returned). `w.mc`, `w.kc` must hold
+    /// the current frame's matrices and `w.alpha` the local coordinates.
     fn local_loads(
         &mut self,
         t: f64,
@@ -298,18 +296,6 @@ impl Split {
             w.f_r[i] = s;
         }
         let g = rigid::g_matrix(&self.p, nr);
-        let vr = g * v6;
-        if !self.c.coupled {
-            drag::add_rigid_terms(
-                &m.m_c_kl,
-                w.alpha.as_slice(),
-                &vr.as_slice()[..nr],
-                w.vl.as_slice(),
-                &cvec[..nr],
-                -1.0,
-                &mut w.f_r.as_mut_slice()[..nr],
-            );
-        }
         let mut q6 = Vector6::zeros();
         for k in 0..6 {
             q6[k] = (0..nr).map(|i| g[(i, k)] * w.f_r[i]).sum();
@@ -376,17 +362,10 @@ impl Split {
         let mut v_use = v_start;
         for pass in 0..passes {
             if pass == 1 {
-                // The frame's spin and the modes' velocities in the loads at the middle
-                // of the sub-step.
+                // The frame's spin in the loads at the middle of the sub-step.
                 v_use = (v_start + self.v6) * 0.5;
-                let w = &mut self.w;
-                w.g0.copy_from(&self.yd);
-                w.g0 += &w.syd;
-                w.vl.gemv(0.5, &self.c.s, &w.g0, 0.0);
                 self.y.copy_from(&self.w.sy);
                 self.yd.copy_from(&self.w.syd);
-            } else {
-                self.w.vl.gemv(1.0, &self.c.s, &self.yd, 0.0);
             }
             self.local_loads(t, &v_use, &m6inv, Out::A);
             let w = &mut self.w;
@@ -437,15 +416,6 @@ impl Split {
         for (kca, kc) in w.kca.iter_mut().zip(&m.k_c_kl) {
             kca.gemv(1.0, kc, &w.alpha, 0.0);
         }
-        // The modes are held: the products of `drag` are formed once. Not for modes that
-        // drag rigid motion (module text: the terms need an implicit treatment there).
-        w.vl.gemv(1.0, &self.c.s, &self.yd, 0.0);
-        let drag_products = (!self.c.coupled).then(|| {
-            (
-                drag::products(&m.m_c_kl, w.alpha.as_slice()),
-                drag::products(&m.m_c_kl, w.vl.as_slice()),
-            )
-        });
         let (f_r, kca, m_r) = (&w.f_r, &w.kca, &self.c.m_r);
         // M6^-1 is re-formed only when the midpoint frame moved by more than 1e-14 since
         // it was last formed (the passes after the first move it by round-off).
@@ -468,12 +438,6 @@ impl Split {
                 }
                 *r = s;
             }
-            // `- A(alpha) c - 2 M_C(P_dot) v_L` (`drag`).
-            let vr = g * v;
-            if let Some((za, zv)) = &drag_products {
-                drag::add_mass(za, &c[..nr], -1.0, &mut rhs[..nr]);
-                drag::add_force(zv, &vr.as_slice()[..nr], -1.0, &mut rhs[..nr]);
-            }
             let mut q6 = Vector6::zeros();
             for k in 0..6 {
                 q6[k] = (0..nr).map(|i| g[(i, k)] * rhs[i]).sum();
@@ -481,17 +445,7 @@ impl Split {
             let inv = match cache {
                 Some((key, inv)) if (key - p).amax() <= 1e-14 => inv,
                 _ => {
-                    // `G^T (M_R + A(alpha)) G`.
-                    let mut m6 = rigid::rigid_mass(m_r, nr, p);
-                    for k in 0..6 {
-                        let Some((za, _)) = &drag_products else { break };
-                        let mut ag = [0.0; 15];
-                        drag::add_mass(za, &g.column(k).as_slice()[..nr], 1.0, &mut ag[..nr]);
-                        for a in 0..6 {
-                            m6[(a, k)] += (0..nr).map(|i| g[(i, a)] * ag[i]).sum::<f64>();
-                        }
-                    }
-                    let inv = m6.try_inverse()?;
+                    let inv = rigid::rigid_mass(m_r, nr, p).try_inverse()?;
                     cache = Some((*p, inv));
                     inv
                 }

@@ -5,7 +5,6 @@
 
 use nalgebra::Matrix3;
 
-use super::super::drag;
 use super::super::{
     PAIRS, SINGULAR_RATIO, edge, frame_omega, omega_matrix, point_offset, singular_error,
 };
@@ -90,17 +89,6 @@ impl Implicit {
                     *r -= mij * xj + kij * aj;
                 }
             }
-            // The rigid rows' terms of the kinetic energy's frame dependence (`drag`):
-            // `A(alpha) x_R + 2 M_C(P_dot) v_L` at the end of the step.
-            drag::add_rigid_terms(
-                &m.m_c_kl,
-                &w.qn.as_slice()[nr..],
-                &w.vn.as_slice()[..nr],
-                &w.vn.as_slice()[nr..],
-                &w.x.as_slice()[..nr],
-                -1.0,
-                &mut w.res[..nr],
-            );
             // Local rows; the per-row factors (s - x_R) and (alpha + beta v_L) are formed
             // once, in `small` and `z`, which are free until the solve.
             for i in 0..nr {
@@ -311,18 +299,10 @@ impl Implicit {
             }
         }
         if refresh {
-            // A_RL = M_C + bt K_C + gt 2 M_C(P_dot), row-major (the last: the derivative
-            // of the rigid rows' force 2 M_C(P_dot) v_L by v_L, `drag`).
-            let pd = drag::frame_rate(&w.vn.as_slice()[..nr]);
+            // A_RL = M_C + bt K_C, row-major.
             for i in 0..nr {
                 for j in 0..nl {
-                    let mut g = 0.0;
-                    if gt != 0.0 {
-                        for (kl, &pkl) in pd.iter().enumerate() {
-                            g += pkl * m.m_c_kl[kl][(i, j)];
-                        }
-                    }
-                    w.arl[i * nl + j] = w.mc[(i, j)] + bt * w.kc[(i, j)] + 2.0 * gt * g;
+                    w.arl[i * nl + j] = w.mc[(i, j)] + bt * w.kc[(i, j)];
                 }
             }
             // Reduced matrix: A_RR - A_RL Y.
