@@ -156,7 +156,7 @@ pub fn prepare_reporting(
         };
         if platform == super::platforms::NATIVE {
             return Err(refuse(format!(
-                "{platform} is the library this pack embeds itself (give it with --lib)"
+                "{platform} is the platform of the library this pack embeds itself"
             )));
         }
         if platforms.contains(platform) {
