@@ -19,7 +19,7 @@
 //! into the solver's own buffer, no allocation). After the step it asks the solver
 //! whether its state is below the output bound ([`Solver::state_below`], a second copy
 //! and a sum of squares) and bounds the inputs over the step the same way: below the
-//! bound every output is certainly finite ([`output_bound`]) and the step is accepted
+//! bound every output is certainly finite (`output_bound`) and the step is accepted
 //! without computing one. Only a step that reaches the bound computes every output a
 //! master can read: node positions, velocities, rotations and their rates, the
 //! accelerations, both energies and the modal coordinates. A finite state does not make
