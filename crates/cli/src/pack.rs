@@ -211,6 +211,11 @@ pub fn worded(e: &PackError, output: &str) -> String {
                 if *stop_given { "" } else { ": give --stop too" }
             )
         }
+        PackError::NativeBinary { platform, path } => format!(
+            "--binary {platform}={}: {platform} is the library this pack embeds itself \
+             (give it with --lib)",
+            path.display()
+        ),
         PackError::Binary {
             platform,
             path,

@@ -125,6 +125,18 @@ pub enum PackError {
         /// Whether the stop time was given.
         stop_given: bool,
     },
+    /// An added platform's library is for the platform of the library the pack embeds
+    /// itself.
+    #[error(
+        "{platform} library {}: {platform} is the platform of the library this pack embeds itself",
+        .path.display()
+    )]
+    NativeBinary {
+        /// The platform name.
+        platform: String,
+        /// The library path.
+        path: PathBuf,
+    },
     /// An added platform's library (platform, path) refused.
     #[error("{platform} library {}: {why}", .path.display())]
     Binary {
