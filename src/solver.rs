@@ -271,6 +271,13 @@ pub trait Solver: Send {
     /// followed it (accepted or refused); an error, and no change, when no checkpoint
     /// was taken before that step or a state was set since.
     fn rewind(&mut self) -> Result<(), SolverError>;
+    /// Whether every entry of the complete state (the numbers [`Solver::state`] saves)
+    /// is certainly below `bound` in magnitude: the sum of their squares is below
+    /// `bound^2` (false when an entry is not finite). One copy of the state into a
+    /// buffer of the solver's own, no allocation once it has held one state: the FMU's
+    /// step guard asks it after a step it could not bound in advance, and computes the
+    /// outputs only when the state reaches its output bound (`crate::fmu::guard`).
+    fn state_below(&mut self, bound: f64) -> bool;
     /// Global positions of the exposed nodes (3 per node).
     fn positions(&self, out: &mut [f64]);
     /// Position value `k` alone (node `k / 3`, component `k % 3`), bit for bit the entry

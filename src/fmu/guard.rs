@@ -16,18 +16,25 @@
 //!
 //! The checked path (every other method, rates on, or a state near the bound) takes a
 //! checkpoint of the solver before the step's loads are passed (one copy of the state,
-//! into the solver's own buffer, no allocation), and after the step computes every
-//! output a master can read: node positions, velocities, rotations and their rates, the
+//! into the solver's own buffer, no allocation). After the step it asks the solver
+//! whether its state is below the output bound ([`Solver::state_below`], a second copy
+//! and a sum of squares) and bounds the inputs over the step the same way: below the
+//! bound every output is certainly finite (`output_bound`) and the step is accepted
+//! without computing one. Only a step that reaches the bound computes every output a
+//! master can read: node positions, velocities, rotations and their rates, the
 //! accelerations, both energies and the modal coordinates. A finite state does not make
 //! them finite: they are sums of products of the state with the body's matrices (and,
 //! for a truncated body, with the loads themselves), which can overflow. On failure the
 //! solver rewinds to the checkpoint and the message names the first non-finite variable
-//! and the input with the largest magnitude, the usual cause.
+//! and the input with the largest magnitude, the usual cause. (Computing the outputs
+//! after every checked step made a communication step 1.1 to 2 times as long; see
+//! docs/ROBUSTNESS.md.)
 
 use super::vars::{Kind, VarTable};
 use crate::num::num;
 use crate::scene::Scene;
 use crate::solver::damping::LocalDamping;
+use crate::solver::rollback::squares_below;
 use crate::solver::{BoundedStep, Growth, Options, Solver, SolverError};
 
 /// The running bounds and the output workspace of one instance.
@@ -280,17 +287,32 @@ impl StepGuard {
         self.bounded
     }
 
-    /// Check the step just taken on the checked path: the first non-finite output, named
+    /// Check the step of `h` just taken on the checked path under `inputs` (the loads,
+    /// the rates, and whether some rate is nonzero): the first non-finite output, named
     /// for the master, or `None` when every checked value is finite, in which case the
-    /// step is accepted.
+    /// step is accepted. A state and inputs below the output bound are accepted as they
+    /// are; only a step that reaches the bound computes the outputs.
     #[inline(never)]
-    pub fn check(&mut self, s: &dyn Solver, table: &VarTable) -> Option<String> {
+    pub fn check(
+        &mut self,
+        s: &mut dyn Solver,
+        table: &VarTable,
+        (loads, rates, rates_on): (&[f64], &[f64], bool),
+        h: f64,
+    ) -> Option<String> {
         // Measured again at the next bounded step.
         (self.measure, self.time) = (f64::INFINITY, f64::INFINITY);
+        let b = self.bound;
+        if inputs_below(loads, rates, rates_on, h, b) && s.state_below(b) {
+            return None;
+        }
         self.first_non_finite(s, table)
     }
 
-    /// The check of every output behind [`StepGuard::check`].
+    /// The check of every output behind [`StepGuard::check`], for a step whose state or
+    /// inputs reach the bound.
+    #[cold]
+    #[inline(never)]
     fn first_non_finite(&mut self, s: &dyn Solver, table: &VarTable) -> Option<String> {
         let named = |kind: Kind| {
             table
@@ -355,6 +377,26 @@ impl StepGuard {
 #[inline]
 pub fn any_nonzero(rates: &[f64]) -> bool {
     rates.iter().fold(0u64, |bits, r| bits | (r.to_bits() << 1)) != 0
+}
+
+/// Whether the loads stay certainly below `bound` in magnitude over a step of `h`: held
+/// value plus rate times step, as a sum of squares like the solver's state
+/// ([`Solver::state_below`]); the held values alone when no rate is on. Loads and rates
+/// are finite (checked when set).
+#[inline]
+fn inputs_below(loads: &[f64], rates: &[f64], rates_on: bool, h: f64, bound: f64) -> bool {
+    if !rates_on {
+        return squares_below(loads, bound);
+    }
+    let sum: f64 = loads
+        .iter()
+        .zip(rates)
+        .map(|(l, r)| {
+            let x = l.abs() + r.abs() * h;
+            x * x
+        })
+        .sum();
+    sum < bound * bound
 }
 
 /// The largest magnitude in `v` (0 when empty; NaN entries are skipped, and loads are

@@ -155,9 +155,10 @@ pub fn prepare_reporting(
             why,
         };
         if platform == super::platforms::NATIVE {
-            return Err(refuse(format!(
-                "{platform} is the library this pack embeds itself (give it with --lib)"
-            )));
+            return Err(PackError::NativeBinary {
+                platform: platform.clone(),
+                path: path.clone(),
+            });
         }
         if platforms.contains(platform) {
             return Err(refuse(format!("{platform} is given twice")));

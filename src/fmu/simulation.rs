@@ -454,7 +454,13 @@ impl Simulation {
             s
         };
         let guid = std::mem::take(&mut self.guid);
-        *self = Simulation::new(scene, guid);
+        // The start values are the description's: the packed method (`pack --method`)
+        // among them, not the body's default.
+        let method = self.table.default_method;
+        let mut fresh = Simulation::new(scene, guid);
+        fresh.table = fresh.table.with_default_method(Some(method));
+        fresh.method = method;
+        *self = fresh;
     }
 
     /// A snapshot of everything that defines the future (FMU state).

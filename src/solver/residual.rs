@@ -149,6 +149,11 @@ impl Solver for Residual {
         self.mark = mark;
         Ok(())
     }
+    /// The inner solver's state: the held loads and rates beside it are the caller's
+    /// inputs, which the caller bounds itself (`crate::fmu::guard`).
+    fn state_below(&mut self, bound: f64) -> bool {
+        self.inner.state_below(bound)
+    }
     fn positions(&self, out: &mut [f64]) {
         self.inner.positions(out);
         self.add(0, |k| self.load(k), out);

@@ -24,6 +24,9 @@ use super::{Method, Solver, SolverError, State};
 #[derive(Debug, Clone)]
 pub(crate) struct Rollback {
     saved: State,
+    /// Where [`Rollback::state_below`] writes the state it measures (the checkpoint must
+    /// stay as it is), sized like `saved`.
+    scratch: Vec<f64>,
     mark: Mark,
 }
 
@@ -91,6 +94,7 @@ impl Rollback {
                 method,
                 data: Vec::with_capacity(len),
             },
+            scratch: Vec::with_capacity(len),
             mark: Mark::default(),
         }
     }
@@ -118,6 +122,16 @@ impl Rollback {
         Ok(())
     }
 
+    /// [`Solver::state_below`]: the complete state written into the scratch buffer (no
+    /// allocation once it has held one state) and measured there.
+    pub(crate) fn state_below<S: Restorable>(s: &mut S, bound: f64) -> bool {
+        let mut data = std::mem::take(&mut s.rollback().scratch);
+        s.write_state(&mut data);
+        let below = squares_below(&data, bound);
+        s.rollback().scratch = data;
+        below
+    }
+
     /// Run one step of `s` all or nothing. `partway`: the step can fail after it changed
     /// the state, which must then be saved first (unless a checkpoint holds it).
     #[inline]
@@ -136,6 +150,35 @@ impl Rollback {
         }
         out
     }
+}
+
+/// Whether every entry of `data` is certainly below `bound` in magnitude: the sum of
+/// their squares is below `bound^2` (NaN or overflow to infinity compare false). Stricter
+/// than testing each entry by at most a factor `sqrt(data.len())`, which only sends a
+/// state that is already near the bound to the caller's full check.
+#[inline]
+pub(crate) fn squares_below(data: &[f64], bound: f64) -> bool {
+    sum_squares(data) < bound * bound
+}
+
+/// The sum of squares behind [`squares_below`] (NaN if an entry is NaN, infinite if an
+/// entry or the sum overflows). Four accumulators, read four entries at a time, so that
+/// the loop vectorises into independent sums (no long chain of dependent additions).
+#[inline]
+fn sum_squares(data: &[f64]) -> f64 {
+    let mut acc = [0.0f64; 4];
+    let mut chunks = data.chunks_exact(4);
+    for c in &mut chunks {
+        for k in 0..4 {
+            acc[k] += c[k] * c[k];
+        }
+    }
+    // Neighbours first: lanes (0, 1) and (2, 3) stay two vector registers.
+    let mut sum = (acc[0] + acc[2]) + (acc[1] + acc[3]);
+    for x in chunks.remainder() {
+        sum += x * x;
+    }
+    sum
 }
 
 /// Write the state of `s` into its rollback buffer (taken out and put back: no
@@ -168,7 +211,7 @@ fn restore<S: Restorable>(s: &mut S) -> Result<(), SolverError> {
 }
 
 /// The [`Solver`] items every method answers through its [`Rollback`]: the complete
-/// state, the checkpoint and the rewind. Invoked inside each method's `impl Solver`,
+/// state, the checkpoint, the rewind and the state's size. Invoked inside each method's `impl Solver`,
 /// which also implements [`Restorable`].
 macro_rules! rollback_items {
     () => {
@@ -189,6 +232,10 @@ macro_rules! rollback_items {
 
         fn rewind(&mut self) -> Result<(), $crate::solver::SolverError> {
             $crate::solver::rollback::Rollback::rewind(self)
+        }
+
+        fn state_below(&mut self, bound: f64) -> bool {
+            $crate::solver::rollback::Rollback::state_below(self, bound)
         }
     };
 }

@@ -9,7 +9,7 @@ use std::path::PathBuf;
 use fxbody::fmu::fmi_version::FmiVersion;
 use fxbody::fmu::options::method_by_name;
 use fxbody::fmu::pack::{
-    Fmax, PackOptions, PackRequest, find_library, pack_reporting, refuse_overwrite,
+    Fmax, PackError, PackOptions, PackRequest, find_library, pack_reporting, refuse_overwrite,
 };
 use fxbody::num::count;
 
@@ -103,9 +103,9 @@ fn binary_arg(s: &str) -> Result<(String, PathBuf), String> {
 
 /// Run `pack`: a one-line summary on stdout, or the error message.
 pub fn run(args: &PackArgs) -> Result<(), String> {
-    let lib = find_library(args.lib.as_deref()).map_err(|e| e.to_string())?;
+    let lib = find_library(args.lib.as_deref()).map_err(|e| worded(&e, "-o"))?;
     if let Some(p) = &args.nodes_file {
-        refuse_overwrite(&args.output, &[("nodes file", p)]).map_err(|e| e.to_string())?;
+        refuse_overwrite(&args.output, &[("nodes file", p)]).map_err(|e| worded(&e, "-o"))?;
     }
     let nodes = match &args.nodes_file {
         Some(p) => Some(read_nodes_file(p)?),
@@ -147,7 +147,8 @@ pub fn run(args: &PackArgs) -> Result<(), String> {
     };
     let header_prefix = match &args.header {
         Some(h) => {
-            refuse_overwrite(h, &[("body file", &args.file)]).map_err(|e| e.to_string())?;
+            refuse_overwrite(h, &[("body file", &args.file)])
+                .map_err(|e| worded(&e, "--header"))?;
             Some(fxbody::fmu::header::macro_prefix(h)?)
         }
         None => None,
@@ -156,7 +157,7 @@ pub fn run(args: &PackArgs) -> Result<(), String> {
     let p = pack_reporting(&req, &popts, &lib, &args.output, &mut |done, total| {
         progress.update(done, total)
     })
-    .map_err(|e| e.to_string())?;
+    .map_err(|e| worded(&e, "-o"))?;
     drop(progress);
     for n in &p.notes {
         eprintln!("fxbody pack: {n}");
@@ -182,6 +183,46 @@ pub fn run(args: &PackArgs) -> Result<(), String> {
         size as f64 / 1e6
     );
     Ok(())
+}
+
+/// The message of a pack error on the command line: the library's errors carry data and
+/// name no option; the options that set that data are this command's to name. `output`:
+/// the option that named the file an [`PackError::Overwrite`] would have overwritten.
+pub fn worded(e: &PackError, output: &str) -> String {
+    match e {
+        PackError::BlockedNeedsCoords(_) => {
+            format!("{e}: give --coords with a Radioss /NODE deck or a CSV file id,x,y,z")
+        }
+        PackError::UnknownNode { .. } => format!("--nodes: {e}"),
+        PackError::Name(n) => format!("--name: {n}"),
+        PackError::StemTooLong { .. } | PackError::StemReserved { .. } => {
+            format!("{e}: give --name")
+        }
+        PackError::Overwrite { .. } => format!("{output} {e}"),
+        PackError::LibNotFound(_) => format!("{e}, or give --lib PATH"),
+        PackError::Time { what, value } => format!(
+            "--{what}: expected a time > 0 (s), found {}",
+            fxbody::num::num(*value)
+        ),
+        // "step 2 s is longer than ..." becomes "--step 2 s is longer than ...".
+        PackError::StepAfterStop { stop_given, .. } => {
+            format!(
+                "--{e}{}",
+                if *stop_given { "" } else { ": give --stop too" }
+            )
+        }
+        PackError::NativeBinary { platform, path } => format!(
+            "--binary {platform}={}: {platform} is the library this pack embeds itself \
+             (give it with --lib)",
+            path.display()
+        ),
+        PackError::Binary {
+            platform,
+            path,
+            why,
+        } => format!("--binary {platform}={}: {why}", path.display()),
+        _ => e.to_string(),
+    }
 }
 
 /// Node IDs from a `--nodes-file` ([`crate::grammar::node_file_text`]). Errors name the

@@ -1,5 +1,7 @@
-//! What can go wrong in a pack, each naming the file or option at fault, and the rules
-//! for a model name (`--name`): a file name and a C identifier at once.
+//! What can go wrong in a pack, each naming the file or value at fault, and the rules
+//! for a model name: a file name and a C identifier at once. The errors carry data and
+//! name no command-line option: the command that set a value names its option
+//! (`fxbody pack`'s wording, in the CLI crate).
 
 use std::path::PathBuf;
 
@@ -11,7 +13,7 @@ use crate::fxb::coords::CoordsError;
 use crate::fxb::input::InputError;
 use crate::scene::io::SceneError;
 
-/// Why packing failed: each names the file or option at fault.
+/// Why packing failed: each names the file or value at fault.
 #[derive(Debug, thiserror::Error)]
 pub enum PackError {
     /// The body file could not be read or is not a valid body.
@@ -21,16 +23,13 @@ pub enum PackError {
     #[error(transparent)]
     Coords(#[from] CoordsError),
     /// A blocked body and no coordinate file.
-    #[error(
-        "{0}: a blocked body needs node coordinates (a .fxb file holds none): \
-         give --coords with a Radioss /NODE deck or a CSV file id,x,y,z"
-    )]
+    #[error("{0}: a blocked body needs node coordinates (a .fxb file holds none)")]
     BlockedNeedsCoords(String),
     /// The coordinate file contradicts the body's rigid modes.
     #[error(transparent)]
     Placement(#[from] Box<PlacementError>),
-    /// `--nodes` names a node the body does not have.
-    #[error("--nodes: node {id} is not a node of {body} (its nodes: {nodes})")]
+    /// The exposed nodes name a node the body does not have.
+    #[error("node {id} is not a node of {body} (its nodes: {nodes})")]
     UnknownNode {
         /// The node ID.
         id: i64,
@@ -49,15 +48,15 @@ pub enum PackError {
         /// The body file.
         body: String,
     },
-    /// `--units` names no known system.
+    /// The unit system is not a known one.
     #[error(transparent)]
     Units(#[from] UnknownUnits),
-    /// `--name` is not a usable model name.
-    #[error(transparent)]
+    /// The model name is not a usable one.
+    #[error("model name: {0}")]
     Name(#[from] NameError),
-    /// No `--name` and the file stem is too long to be one.
+    /// No model name given and the file stem is too long to be one.
     #[error(
-        "{body}: the model name would be the file name's {chars} characters, more than {MAX_NAME}: give --name"
+        "{body}: the model name would be the file name's {chars} characters, more than {MAX_NAME}"
     )]
     StemTooLong {
         /// The body file.
@@ -65,10 +64,8 @@ pub enum PackError {
         /// The stem's length in characters.
         chars: usize,
     },
-    /// No `--name` and the file stem gives a reserved identifier ([`reserved`]).
-    #[error(
-        "{body}: the model identifier would be the file name's '{id}', which is {why}: give --name"
-    )]
+    /// No model name given and the file stem gives a reserved identifier ([`reserved`]).
+    #[error("{body}: the model identifier would be the file name's '{id}', which is {why}")]
     StemReserved {
         /// The body file.
         body: String,
@@ -80,9 +77,9 @@ pub enum PackError {
     /// The exposed nodes do not make a scene.
     #[error(transparent)]
     Scene(#[from] SceneError),
-    /// `-o` names one of the inputs.
+    /// An output names one of the inputs.
     #[error(
-        "-o {}: is the same file as the {what} {}: refusing to overwrite an input; choose another output name",
+        "{}: is the same file as the {what} {}: refusing to overwrite an input; choose another output name",
         .out.display(), .input.display()
     )]
     Overwrite {
@@ -93,8 +90,8 @@ pub enum PackError {
         /// The input path.
         input: PathBuf,
     },
-    /// An input path (`--coords`, `--lib`, `FXBODY_LIB`, `--binary`) that is not a
-    /// regular file of a size its kind can have, refused before it is read.
+    /// An input path (coordinates, library) that is not a regular file of a size its
+    /// kind can have, refused before it is read.
     #[error(transparent)]
     Input(#[from] InputError),
     /// The running executable's path is unknown (needed to find the library).
@@ -102,12 +99,12 @@ pub enum PackError {
     Exe(std::io::Error),
     /// No library next to the executable.
     #[error(
-        "cannot find the FMU library libfxbody.so (looked at {0}): build it with `cargo build --release`, \
-         or give --lib PATH or FXBODY_LIB"
+        "cannot find the FMU library libfxbody.so (looked at {0}): build it with `cargo build --release` \
+         or set FXBODY_LIB"
     )]
     LibNotFound(String),
-    /// `--step` or `--stop` not a finite time > 0.
-    #[error("--{what}: expected a time > 0 (s), found {}", crate::num::num(*.value))]
+    /// The DefaultExperiment step or stop time not a finite time > 0.
+    #[error("{what} time: expected a time > 0 (s), found {}", crate::num::num(*.value))]
     Time {
         /// `step` or `stop`.
         what: &'static str,
@@ -116,9 +113,9 @@ pub enum PackError {
     },
     /// The step is longer than the stop time.
     #[error(
-        "--step {} s is longer than the DefaultExperiment stop time {} s{}",
+        "step {} s is longer than the DefaultExperiment stop time {} s{}",
         crate::num::num(*.step), crate::num::num(*.stop),
-        if *.stop_given { "" } else { " (derived from the body): give --stop too" }
+        if *.stop_given { "" } else { " (derived from the body)" }
     )]
     StepAfterStop {
         /// The step.
@@ -128,8 +125,20 @@ pub enum PackError {
         /// Whether the stop time was given.
         stop_given: bool,
     },
-    /// `--binary` with a bad platform or file.
-    #[error("--binary {platform}={}: {why}", .path.display())]
+    /// An added platform's library is for the platform of the library the pack embeds
+    /// itself.
+    #[error(
+        "{platform} library {}: {platform} is the platform of the library this pack embeds itself",
+        .path.display()
+    )]
+    NativeBinary {
+        /// The platform name.
+        platform: String,
+        /// The library path.
+        path: PathBuf,
+    },
+    /// An added platform's library (platform, path) refused.
+    #[error("{platform} library {}: {why}", .path.display())]
     Binary {
         /// The platform name.
         platform: String,
@@ -162,19 +171,19 @@ pub enum PackError {
     },
 }
 
-/// A `--name` that cannot be a model identifier; `shown` is the name as quoted in the
+/// A model name that cannot be a model identifier; `shown` is the name as quoted in the
 /// message (cut after 40 characters).
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum NameError {
     /// Empty or longer than [`MAX_NAME`].
-    #[error("--name: expected 1 to {MAX_NAME} characters, found {shown}")]
+    #[error("expected 1 to {MAX_NAME} characters, found {shown}")]
     Length {
         /// The name as shown.
         shown: String,
     },
     /// A character outside letters, digits and `_`.
     #[error(
-        "--name: expected letters, digits and '_' only (a file name and a C identifier), found {c:?} in {shown}"
+        "expected letters, digits and '_' only (a file name and a C identifier), found {c:?} in {shown}"
     )]
     Character {
         /// The first such character.
@@ -183,14 +192,14 @@ pub enum NameError {
         shown: String,
     },
     /// A digit first.
-    #[error("--name: expected a letter or '_' first (a C identifier), found {shown}")]
+    #[error("expected a letter or '_' first (a C identifier), found {shown}")]
     DigitFirst {
         /// The name as shown.
         shown: String,
     },
     /// A name C or FMI reserves ([`reserved`]).
     #[error(
-        "--name: {shown} is {why}: the model identifier must be a C identifier of its own; choose another name"
+        "{shown} is {why}: the model identifier must be a C identifier of its own; choose another name"
     )]
     Reserved {
         /// The name as shown.
@@ -284,7 +293,7 @@ pub fn reserved(name: &str) -> Option<&'static str> {
     }
 }
 
-/// Longest `--name`: the model identifier names the library inside the archive and
+/// Longest model name: the model identifier names the library inside the archive and
 /// the C symbols' prefix; 64 characters keep every path well under tool limits.
 pub const MAX_NAME: usize = 64;
 

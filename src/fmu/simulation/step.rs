@@ -44,7 +44,12 @@ impl Simulation {
             Err(e) => return Err(self.refuse_failed(t, h, e)),
         };
         if !self.guard.accept_bounded()
-            && let Some(what) = self.guard.check(s.as_ref(), &self.table)
+            && let Some(what) = self.guard.check(
+                s.as_mut(),
+                &self.table,
+                (&self.loads, &self.rates, rates_on),
+                h,
+            )
         {
             return Err(self.refuse_non_finite(t, h, what));
         }

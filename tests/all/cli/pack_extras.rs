@@ -229,6 +229,11 @@ fn step_stop_and_method_reach_the_description_and_the_running_fmu() {
     assert!(scene.contains("fmax = 2000.0\n") && scene.contains("method = explicit\n"));
     let model = Simulation::from_resources(&unz.join("resources")).unwrap();
     assert_eq!(model.method(), Method::Explicit);
+    // fmi2Reset goes back to the start values the description declares: the packed
+    // method, not the body's default (exact; it did until issue 27).
+    let mut reset = Simulation::from_resources(&unz.join("resources")).unwrap();
+    reset.reset();
+    assert_eq!(reset.method(), Method::Explicit, "after fmi2Reset");
 
     // A C master naming variables through the header drives the FMU with its start method.
     let exe = d.join("header_driver");

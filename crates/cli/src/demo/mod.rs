@@ -109,7 +109,7 @@ pub fn run(args: &DemoArgs) -> Result<(), String> {
     let r = reference(&args.fixtures.join("cantilever.ref.json"))?;
     std::fs::create_dir_all(&args.out)
         .map_err(|e| format!("{}: cannot create: {e}", args.out.display()))?;
-    let lib = find_library(args.lib.as_deref()).map_err(|e| e.to_string())?;
+    let lib = find_library(args.lib.as_deref()).map_err(|e| crate::pack::worded(&e, "-o"))?;
     let fmu = args.out.join("cantilever.fmu");
     let req = PackRequest {
         body,
