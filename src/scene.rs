@@ -88,6 +88,19 @@ impl Scene {
         Ok((scene, t))
     }
 
+    /// Whether exposed node `k` (index into `nodes`) has rotational DOFs: the body's own
+    /// test ([`Body::node_has_rotation`]) or, for a truncated scene, the dropped modes'
+    /// residual flexibility. A node keeps its moments and rotations whatever `--fmax`
+    /// drops: if its rotation rows are non-zero in the full body's local modes, they are
+    /// non-zero in the kept modes or in the residual (the modal basis is invertible), so
+    /// the FMU's interface does not change with `--fmax` (issue 25.4).
+    pub fn node_has_rotation(&self, k: usize) -> bool {
+        let body = &self.body;
+        body.irot
+            && (body.node_has_rotation(self.nodes[k])
+                || self.residual.as_ref().is_some_and(|r| r.rotates(k)))
+    }
+
     /// Rows of a mode matrix for the exposed nodes: `6 m x ncols`, row `6 k + c` is
     /// exposed node `k`, component `c`.
     pub fn exposed_rows(&self, modes: &DMatrix<f64>) -> DMatrix<f64> {

@@ -84,11 +84,12 @@ pub fn index_html_for(
     h.push_str("</p>\n<h2>Exposed nodes</h2>\n<table border=\"1\"><tr><th>ID</th><th>x</th><th>y</th><th>z</th><th>rotations</th></tr>\n");
     for (k, &n) in scene.nodes.iter().enumerate() {
         let [x, y, z] = scene.x0[k];
+        let rot = scene.node_has_rotation(k);
         let _ = writeln!(
             h,
             "<tr><td>{}</td><td>{x}</td><td>{y}</td><td>{z}</td><td>{}</td></tr>",
             b.node_ids[n],
-            if b.node_has_rotation(n) { "yes" } else { "no" }
+            if rot { "yes" } else { "no" }
         );
     }
     h.push_str("</table>\n<h2>Variables</h2>\n<table border=\"1\"><tr><th>vr</th><th>name</th><th>causality</th><th>start</th><th>description</th></tr>\n");

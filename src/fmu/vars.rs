@@ -228,8 +228,8 @@ impl VarTable {
             }
         }
         let ids: Vec<i64> = scene.nodes.iter().map(|&n| body.node_ids[n]).collect();
-        for (k, (&n, id)) in scene.nodes.iter().zip(&ids).enumerate() {
-            let ncomp = if body.node_has_rotation(n) { 6 } else { 3 };
+        for (k, id) in ids.iter().enumerate() {
+            let ncomp = if scene.node_has_rotation(k) { 6 } else { 3 };
             for (comp, l) in LOADS.iter().enumerate().take(ncomp) {
                 let (quantity, what) = if comp < 3 {
                     (Quantity::Force, "Force")
@@ -316,8 +316,8 @@ impl VarTable {
         }
         // Rotations and angular velocities come last, so that adding them (issue 15) kept
         // the value references of every earlier variable.
-        for (k, (&n, id)) in scene.nodes.iter().zip(&ids).enumerate() {
-            if !body.node_has_rotation(n) {
+        for (k, id) in ids.iter().enumerate() {
+            if !scene.node_has_rotation(k) {
                 continue;
             }
             let rot_desc = if free {
