@@ -81,7 +81,12 @@ impl Scene {
             residual.dropped += old.dropped;
         }
         let mut scene = self.clone();
-        scene.body = Arc::new(t.body.clone());
+        let mut body = t.body.clone();
+        // The scene keeps the file's stored Freq (what its documentation page shows beside
+        // the kept modes' highest); no solver reads it, and `fxbody reduce` writes the
+        // truncation's own body, whose Freq is the kept modes' highest.
+        body.freq_file = self.body.freq_file;
+        scene.body = Arc::new(body);
         // Nothing dropped (fmax above every mode): no residual correction, and so no
         // feedthrough to declare.
         scene.residual = (residual.dropped > 0).then(|| Arc::new(residual));

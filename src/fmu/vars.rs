@@ -100,6 +100,10 @@ pub enum Kind {
     FrameOrigin(usize),
     /// Frame matrix P entry, row-major index 0..9 (free bodies).
     FrameP(usize),
+    /// Velocity of the frame origin L0, component 0..3 (free bodies).
+    FrameVelocity(usize),
+    /// Angular velocity of the frame, component 0..3 (free bodies).
+    FrameAngularVelocity(usize),
 }
 
 /// One scalar variable.
@@ -350,6 +354,35 @@ impl VarTable {
                 );
             }
         }
+        // The frame's rates (issue 25.5) after everything else, so that every earlier
+        // variable keeps its value reference.
+        if free {
+            for (what, quantity, desc, mk) in [
+                (
+                    "v",
+                    Quantity::Velocity,
+                    "Velocity of the frame origin L0 (the point v0 sets)",
+                    Kind::FrameVelocity as fn(usize) -> Kind,
+                ),
+                (
+                    "w",
+                    Quantity::AngularVelocity,
+                    "Angular velocity of the frame (what w0 sets)",
+                    Kind::FrameAngularVelocity,
+                ),
+            ] {
+                for (c, axis) in AXES.iter().enumerate() {
+                    push(
+                        format!("frame.{what}{axis}"),
+                        Output,
+                        None,
+                        mk(c),
+                        quantity,
+                        format!("{desc}, global {axis}"),
+                    );
+                }
+            }
+        }
         VarTable {
             vars,
             free,
@@ -420,7 +453,11 @@ impl VarTable {
     pub fn initial_dependency(&self, output: &Variable, other: &Variable) -> bool {
         matches!(
             output.kind,
-            Kind::Velocity { .. } | Kind::AngularVelocity { .. } | Kind::KineticEnergy
+            Kind::Velocity { .. }
+                | Kind::AngularVelocity { .. }
+                | Kind::KineticEnergy
+                | Kind::FrameVelocity(_)
+                | Kind::FrameAngularVelocity(_)
         ) && matches!(other.kind, Kind::V0(_) | Kind::W0(_))
     }
 }
