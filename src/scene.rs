@@ -81,11 +81,29 @@ impl Scene {
             residual.dropped += old.dropped;
         }
         let mut scene = self.clone();
-        scene.body = Arc::new(t.body.clone());
+        let mut body = t.body.clone();
+        // The scene keeps the file's stored Freq (what its documentation page shows beside
+        // the kept modes' highest); no solver reads it, and `fxbody reduce` writes the
+        // truncation's own body, whose Freq is the kept modes' highest.
+        body.freq_file = self.body.freq_file;
+        scene.body = Arc::new(body);
         // Nothing dropped (fmax above every mode): no residual correction, and so no
         // feedthrough to declare.
         scene.residual = (residual.dropped > 0).then(|| Arc::new(residual));
         Ok((scene, t))
+    }
+
+    /// Whether exposed node `k` (index into `nodes`) has rotational DOFs: the body's own
+    /// test ([`Body::node_has_rotation`]) or, for a truncated scene, the dropped modes'
+    /// residual flexibility. A node keeps its moments and rotations whatever `--fmax`
+    /// drops: if its rotation rows are non-zero in the full body's local modes, they are
+    /// non-zero in the kept modes or in the residual (the modal basis is invertible), so
+    /// the FMU's interface does not change with `--fmax` (issue 25.4).
+    pub fn node_has_rotation(&self, k: usize) -> bool {
+        let body = &self.body;
+        body.irot
+            && (body.node_has_rotation(self.nodes[k])
+                || self.residual.as_ref().is_some_and(|r| r.rotates(k)))
     }
 
     /// Rows of a mode matrix for the exposed nodes: `6 m x ncols`, row `6 k + c` is

@@ -203,6 +203,15 @@ pub struct Frame {
     pub p: [f64; 9],
 }
 
+/// The rates of a free body's moving frame ([`Solver::frame_rates`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FrameRates {
+    /// Global velocity of L0 (the point `v0` sets at the start).
+    pub velocity: [f64; 3],
+    /// Global angular velocity of the frame (what `w0` sets at the start).
+    pub omega: [f64; 3],
+}
+
 /// What a completed step has to say about the model's validity: the step was taken and
 /// its numbers are finite, but the body has gone where the model's results may be wrong.
 /// Raised once per solver; the FMU passes it on as fmi2Warning.
@@ -312,6 +321,12 @@ pub trait Solver: Send {
     fn kinetic_energy(&self) -> f64;
     /// The moving frame, for free bodies; `None` for blocked ones.
     fn frame(&self) -> Option<Frame>;
+    /// The moving frame's rates, for free bodies: the velocity of its origin L0 and its
+    /// angular velocity (global components), both from the frame points' velocities
+    /// (FORMULATION.md section 2); `None` for blocked bodies. Outputs `frame.vx..wz`.
+    fn frame_rates(&self) -> Option<FrameRates> {
+        None
+    }
     /// Linear momentum of a free body (global components): `s_c^T M v` with `M` the
     /// mass matrix of section 3 for the current frame, `v` the coordinate velocities
     /// and `s_c` the uniform translation of the frame points along axis `c`. Its change

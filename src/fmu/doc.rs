@@ -3,6 +3,8 @@
 
 use std::fmt::Write;
 
+pub mod picture;
+
 use super::fmi_version::FmiVersion;
 use super::options::SceneOptions;
 use super::vars::{Causality, VarTable, default_method, method_name};
@@ -43,7 +45,7 @@ pub fn index_html_for(
         h,
         "<p>A Radioss flexible body (/FXBODY) as an FMI {} co-simulation unit, packed by fxbody {} \
          (GUID {}).</p>\n<ul>\n<li>{} body, {} nodes, {} ({} static), rotational DOFs: {}</li>\n\
-         <li>Damping: {}</li>\n<li>Explicit stable step (from the largest computed eigenfrequency {:.6e} Hz; stored Freq {:.6e} Hz): {:.6e} s</li>\n\
+         <li>Damping: {}</li>\n<li>Explicit stable step (from the largest computed eigenfrequency of the kept modes, {:.6e} Hz; the file's stored Freq is {:.6e} Hz): {:.6e} s</li>\n\
          <li>Default experiment: stop {} s, step {} s</li>\n<li>Methods: {}; default {}</li>\n<li>Units: {}</li>\n<li>Platforms: {}</li>\n</ul>\n",
         fmi.number(),
         env!("CARGO_PKG_VERSION"),
@@ -78,17 +80,21 @@ pub fn index_html_for(
             .collect::<Vec<_>>()
             .join(", "),
     );
+    free_body(&mut h, scene, table);
     h.push_str("<h2>Eigenfrequencies of the kept local modes (Hz)</h2>\n<p>");
     let f: Vec<String> = b.frequencies_hz.iter().map(|f| format!("{f:.6}")).collect();
     h.push_str(&f.join(", "));
-    h.push_str("</p>\n<h2>Exposed nodes</h2>\n<table border=\"1\"><tr><th>ID</th><th>x</th><th>y</th><th>z</th><th>rotations</th></tr>\n");
+    h.push_str("</p>\n");
+    h.push_str(&picture::section(scene, &b.frequencies_hz));
+    h.push_str("<h2>Exposed nodes</h2>\n<table border=\"1\"><tr><th>ID</th><th>x</th><th>y</th><th>z</th><th>rotations</th></tr>\n");
     for (k, &n) in scene.nodes.iter().enumerate() {
         let [x, y, z] = scene.x0[k];
+        let rot = scene.node_has_rotation(k);
         let _ = writeln!(
             h,
             "<tr><td>{}</td><td>{x}</td><td>{y}</td><td>{z}</td><td>{}</td></tr>",
             b.node_ids[n],
-            if b.node_has_rotation(n) { "yes" } else { "no" }
+            if rot { "yes" } else { "no" }
         );
     }
     h.push_str("</table>\n<h2>Variables</h2>\n<table border=\"1\"><tr><th>vr</th><th>name</th><th>causality</th><th>start</th><th>description</th></tr>\n");
@@ -116,6 +122,40 @@ pub fn index_html_for(
     dependencies(&mut h, scene, table);
     h.push_str("</body></html>\n");
     h
+}
+
+/// A free body's rigid properties (mass, centre of mass, inertia), the point `v0` and `w0`
+/// refer to, the frame outputs, and which method to choose when.
+fn free_body(h: &mut String, scene: &Scene, table: &VarTable) {
+    if !table.free {
+        return;
+    }
+    let Some(mp) = crate::body::mass_props::mass_properties(&scene.body) else {
+        return;
+    };
+    let c = mp.cog_from_l0;
+    let i = mp.inertia;
+    let _ = write!(
+        h,
+        "<h2>Free body</h2>\n<ul>\n<li>Mass: {:.6e}</li>\n\
+         <li>Centre of mass, from the frame origin L0 (global axes at the start): ({:.6e}, {:.6e}, {:.6e})</li>\n\
+         <li>Inertia at the centre of mass (global axes at the start): [[{:.6e}, {:.6e}, {:.6e}], [{:.6e}, {:.6e}, {:.6e}], [{:.6e}, {:.6e}, {:.6e}]]</li>\n\
+         <li>v0 is the initial velocity of the frame origin L0 and w0 the body's initial angular velocity; every point of the body starts at v0 + w0 x r, r its position from L0. L0 is the origin of the file's rigid modes; the outputs frame.x, frame.y, frame.z give its position, frame.vx, frame.vy, frame.vz its velocity and frame.wx, frame.wy, frame.wz the frame's angular velocity.</li>\n\
+         <li>Which method (the measured comparison in docs/STUDY.md): split, the default, at a master's step: the most accurate at every step on the study's free bodies, second order on a tumble, and cheaper than the explicit method at equal error; explicit to compare with Radioss (its own scheme, sub-cycled at 0.9 of the stable step, first order on a fast tumble); implicit only to reproduce an implicit reference tool (it damps the highest modes, by rho_inf)</li>\n</ul>\n",
+        mp.mass,
+        c[0],
+        c[1],
+        c[2],
+        i[(0, 0)],
+        i[(0, 1)],
+        i[(0, 2)],
+        i[(1, 0)],
+        i[(1, 1)],
+        i[(1, 2)],
+        i[(2, 0)],
+        i[(2, 1)],
+        i[(2, 2)],
+    );
 }
 
 /// The default method and why: the body's default with its reason, or the method

@@ -100,6 +100,10 @@ pub enum Kind {
     FrameOrigin(usize),
     /// Frame matrix P entry, row-major index 0..9 (free bodies).
     FrameP(usize),
+    /// Velocity of the frame origin L0, component 0..3 (free bodies).
+    FrameVelocity(usize),
+    /// Angular velocity of the frame, component 0..3 (free bodies).
+    FrameAngularVelocity(usize),
 }
 
 /// One scalar variable.
@@ -228,8 +232,8 @@ impl VarTable {
             }
         }
         let ids: Vec<i64> = scene.nodes.iter().map(|&n| body.node_ids[n]).collect();
-        for (k, (&n, id)) in scene.nodes.iter().zip(&ids).enumerate() {
-            let ncomp = if body.node_has_rotation(n) { 6 } else { 3 };
+        for (k, id) in ids.iter().enumerate() {
+            let ncomp = if scene.node_has_rotation(k) { 6 } else { 3 };
             for (comp, l) in LOADS.iter().enumerate().take(ncomp) {
                 let (quantity, what) = if comp < 3 {
                     (Quantity::Force, "Force")
@@ -316,8 +320,8 @@ impl VarTable {
         }
         // Rotations and angular velocities come last, so that adding them (issue 15) kept
         // the value references of every earlier variable.
-        for (k, (&n, id)) in scene.nodes.iter().zip(&ids).enumerate() {
-            if !body.node_has_rotation(n) {
+        for (k, id) in ids.iter().enumerate() {
+            if !scene.node_has_rotation(k) {
                 continue;
             }
             let rot_desc = if free {
@@ -348,6 +352,35 @@ impl VarTable {
                     Quantity::AngularVelocity,
                     format!("Angular velocity of node {id}, global {axis}"),
                 );
+            }
+        }
+        // The frame's rates (issue 25.5) after everything else, so that every earlier
+        // variable keeps its value reference.
+        if free {
+            for (what, quantity, desc, mk) in [
+                (
+                    "v",
+                    Quantity::Velocity,
+                    "Velocity of the frame origin L0 (the point v0 sets)",
+                    Kind::FrameVelocity as fn(usize) -> Kind,
+                ),
+                (
+                    "w",
+                    Quantity::AngularVelocity,
+                    "Angular velocity of the frame (what w0 sets)",
+                    Kind::FrameAngularVelocity,
+                ),
+            ] {
+                for (c, axis) in AXES.iter().enumerate() {
+                    push(
+                        format!("frame.{what}{axis}"),
+                        Output,
+                        None,
+                        mk(c),
+                        quantity,
+                        format!("{desc}, global {axis}"),
+                    );
+                }
             }
         }
         VarTable {
@@ -420,7 +453,11 @@ impl VarTable {
     pub fn initial_dependency(&self, output: &Variable, other: &Variable) -> bool {
         matches!(
             output.kind,
-            Kind::Velocity { .. } | Kind::AngularVelocity { .. } | Kind::KineticEnergy
+            Kind::Velocity { .. }
+                | Kind::AngularVelocity { .. }
+                | Kind::KineticEnergy
+                | Kind::FrameVelocity(_)
+                | Kind::FrameAngularVelocity(_)
         ) && matches!(other.kind, Kind::V0(_) | Kind::W0(_))
     }
 }

@@ -122,6 +122,16 @@ pub struct Truncation {
     phi_l: DMatrix<f64>,
 }
 
+impl Residual {
+    /// Whether the dropped modes rotate exposed node `k` (index into the scene's exposed
+    /// nodes): a non-zero rotational diagonal entry of R. R is positive semi-definite, so
+    /// a zero diagonal means zero rows: such a node neither rotates under nor transmits a
+    /// moment through the dropped modes.
+    pub fn rotates(&self, k: usize) -> bool {
+        (6 * k + 3..6 * k + 6).any(|i| i < self.r.nrows() && self.r[(i, i)] != 0.0)
+    }
+}
+
 impl Truncation {
     /// Residual flexibility at the nodes `nodes` (indices into the body's node list).
     pub fn residual(&self, nodes: &[usize]) -> Residual {

@@ -80,6 +80,13 @@ macro_rules! free_solver_sampled_velocity {
             self.m.kinetic_energy(&self.v, &self.p)
         }
 
+        fn frame_rates(&self) -> Option<$crate::solver::FrameRates> {
+            Some($crate::solver::free::frame_rates(
+                &self.p,
+                self.v.as_slice(),
+            ))
+        }
+
         fn momentum(&self) -> Option<[f64; 3]> {
             Some(self.m.momentum(&self.v, &self.p))
         }
@@ -175,6 +182,15 @@ pub(crate) fn frame_omega(p: &Matrix3<f64>, v: &[f64]) -> Vector3<f64> {
         w[r] = (0..12).map(|i| b[r][i] * v[i]).sum();
     }
     w
+}
+
+/// The frame's rates from the coordinate velocities `v` (rigid part first) and the
+/// frame P: L0's velocity and [`frame_omega`].
+pub(crate) fn frame_rates(p: &Matrix3<f64>, v: &[f64]) -> crate::solver::FrameRates {
+    crate::solver::FrameRates {
+        velocity: point_vec(v, 0).into(),
+        omega: frame_omega(p, v).into(),
+    }
 }
 
 /// Time derivative of the frame angular velocity at fixed frame-point accelerations,

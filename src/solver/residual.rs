@@ -210,6 +210,9 @@ impl Solver for Residual {
     fn frame(&self) -> Option<Frame> {
         self.inner.frame()
     }
+    fn frame_rates(&self) -> Option<super::FrameRates> {
+        self.inner.frame_rates()
+    }
     fn state(&self) -> State {
         let mut s = self.inner.state();
         self.held.save_time_first(&mut s.data);

@@ -86,6 +86,8 @@ impl Simulation {
                 Kind::StrainEnergy => s.strain_energy(),
                 Kind::FrameOrigin(c) => s.frame().map_or(f64::NAN, |f| f.origin[c]),
                 Kind::FrameP(k) => s.frame().map_or(f64::NAN, |f| f.p[k]),
+                Kind::FrameVelocity(c) => s.frame_rates().map_or(f64::NAN, |f| f.velocity[c]),
+                Kind::FrameAngularVelocity(c) => s.frame_rates().map_or(f64::NAN, |f| f.omega[c]),
             };
         }
         Ok(())

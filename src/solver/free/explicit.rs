@@ -479,6 +479,10 @@ impl Solver for Explicit {
         Some(self.with_velocity(|v| self.m.momentum(v, &self.p)))
     }
 
+    fn frame_rates(&self) -> Option<crate::solver::FrameRates> {
+        Some(self.with_velocity(|v| super::frame_rates(&self.p, v.as_slice())))
+    }
+
     fn set_state(&mut self, state: &State) -> Result<(), SolverError> {
         check_state(state, Method::Explicit, self.state_len())?;
         let nq = self.m.nq();

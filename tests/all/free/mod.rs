@@ -3,6 +3,7 @@
 
 mod explicit;
 mod fe_reference;
+mod frame_rates;
 mod held_loads;
 mod implicit;
 mod radioss_differences;

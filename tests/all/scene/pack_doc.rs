@@ -145,3 +145,107 @@ fn fmax_below_the_first_mode_warns_and_above_every_mode_keeps_all() {
     assert_eq!(summary, "20 local modes, no residual correction");
     assert!(deps.is_empty());
 }
+
+/// The numbers after `key` up to the next `end`, split on non-number characters.
+fn numbers_after(s: &str, key: &str, end: &str) -> Vec<f64> {
+    between(s, key, end)
+        .split(|c: char| !(c.is_ascii_digit() || "+-.e".contains(c)))
+        .filter_map(|t| t.parse().ok())
+        .collect()
+}
+
+/// Issue 25.5: with `--fmax` the page shows the file's stored Freq (read here from the
+/// file by the reader, 4137 Hz) beside the kept modes' highest (the first mode's, 10.03
+/// Hz, from the eigenvalues of the full body); the picture circles and labels every
+/// exposed node and draws the first kept modes, captioned with their frequencies.
+#[test]
+fn the_page_shows_the_stored_freq_and_draws_the_nodes_and_modes() {
+    let full = load_body(&root().join("fixtures/cantilever.fxb")).unwrap();
+    let first = full.frequencies_hz[0];
+    let p = pack(Some(1.5 * first));
+    let html = index_html(&p.scene, &p.table, &p.options, &p.guid);
+    let figures = numbers_after(
+        &html,
+        "largest computed eigenfrequency of the kept modes, ",
+        " s</li>",
+    );
+    println!(
+        "stable-step line: {figures:?}, file Freq {}, first mode {first}",
+        full.freq_file
+    );
+    assert!((figures[0] / first - 1.0).abs() < 1e-6, "{figures:?}");
+    assert!(
+        (figures[1] / full.freq_file - 1.0).abs() < 1e-6,
+        "{figures:?}"
+    );
+    assert!(full.freq_file > 4000.0);
+    // The picture: one drawing of the nodes and one per kept mode (one here), both
+    // exposed nodes circled and labelled in each.
+    let svgs = html.matches("<svg ").count();
+    assert_eq!(svgs, 2, "{html}");
+    assert_eq!(html.matches("r=\"4.5\"").count(), 2 * 2);
+    for id in [111, 121] {
+        assert_eq!(html.matches(&format!(">node {id}</text>")).count(), svgs);
+    }
+    let caption = numbers_after(&html, "<figcaption>mode 1 (", " Hz)");
+    assert!((caption[0] / first - 1.0).abs() < 1e-6);
+    // Untruncated: the first three of the ten modes drawn.
+    let untruncated = pack(None);
+    let page = index_html(
+        &untruncated.scene,
+        &untruncated.table,
+        &untruncated.options,
+        &untruncated.guid,
+    );
+    assert_eq!(
+        page.matches("<svg ").count(),
+        1 + fxbody::fmu::doc::picture::MODES_DRAWN
+    );
+}
+
+/// Issue 25.5: a free body's page gives its mass, centre of mass and inertia, checked
+/// against the fixture's own reference (fixtures/freefree.ref.json: mass 0.7536 kg, L0
+/// at the centre of mass) and beam theory (a 1 m beam along the local X axis: m L^2/12
+/// about the transverse axes within 1%, the lumped end nodes' share; next to nothing about
+/// the axis), names the point v0 and w0 refer to, and draws every node of the body.
+#[test]
+fn a_free_body_page_gives_mass_centre_inertia_and_the_reference_point() {
+    let req = PackRequest {
+        body: root().join("fixtures/freefree.fxb"),
+        nodes: Some(vec![521, 511]),
+        ..PackRequest::default()
+    };
+    let p = prepare_with(&req, None).unwrap();
+    let html = index_html(&p.scene, &p.table, &p.options, &p.guid);
+    let text = std::fs::read_to_string(root().join("fixtures/freefree.ref.json")).unwrap();
+    let reference: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let mass = reference["total_mass"].as_f64().unwrap();
+    let m = numbers_after(&html, "<li>Mass: ", "</li>");
+    assert!((m[0] / mass - 1.0).abs() < 1e-6, "{m:?} vs {mass}");
+    let c = numbers_after(
+        &html,
+        "Centre of mass, from the frame origin L0 (global axes at the start): ",
+        "</li>",
+    );
+    assert_eq!(c.len(), 3);
+    assert!(c.iter().all(|x| x.abs() < 1e-9), "{c:?}");
+    let i = numbers_after(
+        &html,
+        "Inertia at the centre of mass (global axes at the start): ",
+        "</li>",
+    );
+    assert_eq!(i.len(), 9);
+    let inertia = nalgebra::Matrix3::from_row_slice(&i);
+    let p0 = &reference["frame"]["P0"];
+    let axis = nalgebra::Vector3::from_fn(|r, _| p0[r][0].as_f64().unwrap());
+    let across = nalgebra::Vector3::from_fn(|r, _| p0[r][1].as_f64().unwrap());
+    let beam = mass * 1.0 / 12.0;
+    let i_across = across.dot(&(inertia * across));
+    let i_axis = axis.dot(&(inertia * axis));
+    println!("inertia across {i_across:e} (m L^2/12 {beam:e}), about the axis {i_axis:e}");
+    assert!((i_across / beam - 1.0).abs() < 0.01);
+    assert!(i_axis < 1e-3 * beam);
+    assert!(html.contains("v0 is the initial velocity of the frame origin L0"));
+    assert!(html.contains("frame.vx, frame.vy, frame.vz its velocity"));
+    assert!(html.contains("21 nodes drawn, 2 exposed"), "{html}");
+}

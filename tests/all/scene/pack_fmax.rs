@@ -13,12 +13,13 @@ use fxbody::fmu::vars::Kind;
 use nalgebra::DMatrix;
 use serde_json::Value;
 
-/// Tip uy under a unit fy at the tip, direct solve with K_L (P0 = I in this fixture).
-fn static_uy(body: &Body, tip: usize) -> f64 {
+/// Component `comp` (0..6: ux uy uz rx ry rz) of node `tip`'s displacement under a unit
+/// load along the same component, direct solve with K_L (P0 = I in this fixture).
+fn static_u(body: &Body, tip: usize, comp: usize) -> f64 {
     let g = DMatrix::from_fn(6, body.nl(), |r, j| body.phi_l[(6 * tip + r, j)]);
-    let f = nalgebra::DVector::from_column_slice(&[0.0, 1.0, 0.0, 0.0, 0.0, 0.0]);
+    let f = nalgebra::DVector::from_fn(6, |r, _| if r == comp { 1.0 } else { 0.0 });
     let q = body.k_l.clone().lu().solve(&(g.transpose() * f)).unwrap();
-    (g * q)[1]
+    (g * q)[comp]
 }
 
 #[test]
@@ -70,7 +71,7 @@ fn packed_truncation_feeds_through_and_tracks_the_reference() {
     // At t = 0 the kept modes have not moved: the tip is displaced by the dropped modes'
     // static share, full minus kept (1e-9 relative to it).
     let k = full.node_index(tip).unwrap();
-    let want = static_uy(&full, k) - static_uy(&truncated, k);
+    let want = static_u(&full, k, 1) - static_u(&truncated, k, 1);
     println!(
         "instant tip uy {:e}, dropped-mode static share {want:e}",
         out[0] - y0
@@ -106,4 +107,63 @@ fn packed_truncation_feeds_through_and_tracks_the_reference() {
         m.method()
     );
     assert!(err < 0.02 * peak, "{}", err / peak);
+}
+
+/// Issue 25.4: the FMU's interface does not change with `--fmax`. With `--fmax 1` (below
+/// the cantilever's first mode, 10.03 Hz: no mode kept) the tip keeps its moment inputs
+/// and rotation outputs, with the same names and value references as the untruncated
+/// FMU, and they work: a unit moment at t = 0 turns the tip at once by the full body's
+/// static rotation (every mode dropped, so the residual flexibility is all of K_L^-1;
+/// 1e-9 relative to a direct K_L solve).
+#[test]
+fn a_low_fmax_keeps_every_variable_and_value_reference() {
+    let tip = 121;
+    let req = PackRequest {
+        body: root().join("fixtures/cantilever.fxb"),
+        coords: Some(root().join("fixtures/cantilever.nodes.rad")),
+        nodes: Some(vec![tip]),
+        ..PackRequest::default()
+    };
+    let names = |p: &fxbody::fmu::pack::Prepared| -> Vec<(u32, String)> {
+        p.table
+            .vars
+            .iter()
+            .map(|v| (v.vr, v.name.clone()))
+            .collect()
+    };
+    let full = prepare_with(&req, None).unwrap();
+    let mut seen = Vec::new();
+    for fmax in [1.0, 15.0, 1e9] {
+        let p = prepare_with(&req, Some(Fmax::Hz(fmax))).unwrap();
+        assert_eq!(names(&p), names(&full), "--fmax {fmax}");
+        seen.push(p.table.vars.len());
+        // The description lists the same variables too.
+        for v in &full.table.vars {
+            assert!(
+                p.xml
+                    .contains(&format!("name=\"{}\" valueReference=\"{}\"", v.name, v.vr))
+            );
+        }
+    }
+    println!(
+        "variables at fmax 1, 15, 1e9 Hz and untruncated: {seen:?}, {}",
+        full.table.vars.len()
+    );
+    assert_eq!(full.table.vars.len(), 23);
+    let p = prepare_with(&req, Some(Fmax::Hz(1.0))).unwrap();
+    let vr = |want: Kind| p.table.vars.iter().find(|v| v.kind == want).unwrap().vr;
+    let mz = vr(Kind::Load { node: 0, comp: 5 });
+    let rz = vr(Kind::Rotation { node: 0, comp: 2 });
+    let body = load_body(&root().join("fixtures/cantilever.fxb")).unwrap();
+    let want = static_u(&body, body.node_index(tip).unwrap(), 5);
+    let mut m = Simulation::new(p.scene, p.guid);
+    m.setup(0.0, None).unwrap();
+    m.set_real(mz, 1.0, Phase::Configuring).unwrap();
+    let mut out = [0.0];
+    m.get_reals(&[rz], &mut out).unwrap();
+    println!(
+        "--fmax 1: tip rz under a unit mz {:e}, K_L solve {want:e}",
+        out[0]
+    );
+    assert!((out[0] / want - 1.0).abs() < 1e-9, "{} vs {want}", out[0]);
 }
