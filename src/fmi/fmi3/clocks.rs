@@ -12,6 +12,7 @@ use super::{V3, state};
 use crate::fmi::FmiError;
 use crate::fmi::instance::*;
 use crate::fmi::values::no_variables;
+use crate::fmi::version::Interface;
 
 /// A function over an array of clocks: fine for none, refused naming the first.
 ///
@@ -232,10 +233,11 @@ pub unsafe extern "C" fn fmi3EvaluateDiscreteStates(instance: fmi3Instance) -> f
     )
 }
 
-/// Not provided (no clocks, no event mode): logs why, returns fmi3Error.
+/// An event iteration of a Model Exchange instance: no discrete states, no events, so
+/// nothing to update and no time event. A co-simulation instance has no event mode.
 ///
 /// # Safety
-/// `instance` is an instance.
+/// `instance` is an instance; the output arguments are NULL or writable.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi3UpdateDiscreteStates(
     instance: fmi3Instance,
@@ -246,21 +248,33 @@ pub unsafe extern "C" fn fmi3UpdateDiscreteStates(
     nextEventTimeDefined: *mut fmi3Boolean,
     nextEventTime: *mut fmi3Float64,
 ) -> fmi3Status {
-    // Not needed: refused.
-    let _ = (
-        discreteStatesNeedUpdate,
-        terminateSimulation,
-        nominalsOfContinuousStatesChanged,
-        valuesOfContinuousStatesChanged,
-        nextEventTimeDefined,
-        nextEventTime,
-    );
     enter_as(
         instance,
         V3,
         "fmi3UpdateDiscreteStates",
         state::DISCRETE_STATES,
-        |_| Err(FmiError::NotProvided(NO_EVENT_MODE)),
+        |inst| {
+            if inst.interface != Interface::ModelExchange {
+                return Err(FmiError::NotProvided(NO_EVENT_MODE));
+            }
+            for p in [
+                discreteStatesNeedUpdate,
+                terminateSimulation,
+                nominalsOfContinuousStatesChanged,
+                valuesOfContinuousStatesChanged,
+                nextEventTimeDefined,
+            ] {
+                if !p.is_null() {
+                    // SAFETY: non-null and writable (FMI contract).
+                    unsafe { *p = false };
+                }
+            }
+            if !nextEventTime.is_null() {
+                // SAFETY: as above.
+                unsafe { *nextEventTime = 0.0 };
+            }
+            Ok(crate::fmi::types::fmi2OK)
+        },
     )
 }
 

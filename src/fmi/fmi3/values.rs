@@ -198,10 +198,13 @@ pub unsafe extern "C" fn fmi3GetOutputDerivatives(
     )
 }
 
-/// Not provided (providesDirectionalDerivatives="false"): logs why, returns fmi3Error.
+/// The directional derivative of state derivatives with respect to states and load
+/// inputs, exact (Model Exchange instances; co-simulation declares
+/// providesDirectionalDerivatives="false" and is refused). Every variable is a scalar:
+/// nSeed is nKnowns and nSensitivity nUnknowns.
 ///
 /// # Safety
-/// `instance` is an instance.
+/// `instance` is an instance; the arrays hold their lengths' elements.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi3GetDirectionalDerivative(
     instance: fmi3Instance,
@@ -214,26 +217,24 @@ pub unsafe extern "C" fn fmi3GetDirectionalDerivative(
     sensitivity: *mut fmi3Float64,
     nSensitivity: usize,
 ) -> fmi3Status {
-    // Not needed: refused.
-    let _ = (
-        unknowns,
-        nUnknowns,
-        knowns,
-        nKnowns,
-        seed,
-        nSeed,
-        sensitivity,
-        nSensitivity,
-    );
     enter_as(
         instance,
         V3,
         "fmi3GetDirectionalDerivative",
         state::GET_DERIVATIVES,
-        |_| {
-            Err(FmiError::NotProvided(
-                "not provided by this FMU (providesDirectionalDerivatives=\"false\")",
-            ))
+        |inst| {
+            scalars(nKnowns, nSeed)?;
+            scalars(nUnknowns, nSensitivity)?;
+            // SAFETY: the caller's contract, passed on.
+            unsafe {
+                crate::fmi::model_exchange::directional_derivative(
+                    inst,
+                    (unknowns, nUnknowns),
+                    (knowns, nKnowns),
+                    seed,
+                    sensitivity,
+                )
+            }
         },
     )
 }
