@@ -24,6 +24,7 @@ use fxbody::fmi::instance::Instance as Inner;
 use fxbody::fmi::state::FmiState;
 use fxbody::fmi::types::*;
 use fxbody::fmu::fmi_version::FmiVersion;
+use fxbody::fmu::interface::Interfaces;
 use fxbody::fmu::pack::{PackOptions, PackRequest, Prepared, find_library, pack_opts};
 
 use super::fixture;
@@ -80,6 +81,18 @@ pub fn unpack_as(
     model: Option<&str>,
     fmi: FmiVersion,
 ) -> (Prepared, PathBuf) {
+    unpack_with(dir, body, node, model, fmi, Interfaces::CoSimulation)
+}
+
+/// [`unpack_as`] declaring `interface` (`pack --interface`).
+pub fn unpack_with(
+    dir: &Path,
+    body: &str,
+    node: i64,
+    model: Option<&str>,
+    fmi: FmiVersion,
+    interface: Interfaces,
+) -> (Prepared, PathBuf) {
     std::fs::create_dir_all(dir).unwrap();
     let lib = find_library(None).expect("libfxbody.so next to the test executable");
     let fmu = dir.join("tip.fmu");
@@ -92,6 +105,7 @@ pub fn unpack_as(
     };
     let opts = PackOptions {
         fmi,
+        interface,
         ..PackOptions::default()
     };
     let p = pack_opts(&req, &opts, &lib, &fmu).unwrap();
@@ -141,6 +155,19 @@ fn packed_full(tag: &str, body: &str, node: i64, model: Option<&str>) -> Packed 
     packed_as_version(tag, body, node, model, FmiVersion::Fmi2)
 }
 
+/// The cantilever with its tip exposed, packed for FMI 2.0 Model Exchange
+/// (`--interface me`), under a temporary folder named after `tag`.
+pub fn packed_me(tag: &str) -> Packed {
+    packed_with(
+        tag,
+        "cantilever",
+        121,
+        None,
+        FmiVersion::Fmi2,
+        Interfaces::ModelExchange,
+    )
+}
+
 /// [`unpack_as`] under a temporary folder named after `tag`, with the resource URI.
 pub fn packed_as_version(
     tag: &str,
@@ -149,8 +176,20 @@ pub fn packed_as_version(
     model: Option<&str>,
     fmi: FmiVersion,
 ) -> Packed {
+    packed_with(tag, body, node, model, fmi, Interfaces::CoSimulation)
+}
+
+/// [`unpack_with`] under a temporary folder named after `tag`, with the resource URI.
+pub fn packed_with(
+    tag: &str,
+    body: &str,
+    node: i64,
+    model: Option<&str>,
+    fmi: FmiVersion,
+    interface: Interfaces,
+) -> Packed {
     let dir = std::env::temp_dir().join(format!("fxbody_robust_{tag}_{}", std::process::id()));
-    let (p, so) = unpack_as(&dir, body, node, model, fmi);
+    let (p, so) = unpack_with(&dir, body, node, model, fmi, interface);
     let uri = fxbody_host::file_uri(&dir.join("resources"));
     Packed { p, dir, uri, so }
 }
@@ -236,6 +275,22 @@ impl Slave {
 
     /// Instantiate with an explicit GUID and resource URI.
     pub fn try_with(guid: &str, uri: &str, name: &str) -> Result<Slave, Vec<Msg>> {
+        Slave::try_typed(guid, uri, name, fmi2CoSimulation)
+    }
+
+    /// A Model Exchange instance (fmi2Instantiate with fmi2ModelExchange) named `name`.
+    pub fn new_me(fx: &Packed, name: &str) -> Slave {
+        Slave::try_typed(&fx.p.guid, &fx.uri, name, fmi2ModelExchange)
+            .unwrap_or_else(|m| panic!("instantiate failed: {m:?}"))
+    }
+
+    /// Instantiate for `fmu_type` with an explicit GUID and resource URI.
+    pub fn try_typed(
+        guid: &str,
+        uri: &str,
+        name: &str,
+        fmu_type: fmi2Type,
+    ) -> Result<Slave, Vec<Msg>> {
         let log: Box<LogSink> = Box::new(Mutex::new(Vec::new()));
         let env = log_env(&log);
         let functions = fmi2CallbackFunctions {
@@ -255,7 +310,7 @@ impl Slave {
         let c = unsafe {
             x::fmi2Instantiate(
                 n.as_ptr(),
-                fmi2CoSimulation,
+                fmu_type,
                 g.as_ptr(),
                 r.as_ptr(),
                 &functions,
