@@ -8,7 +8,7 @@
 #![allow(non_snake_case, clippy::missing_safety_doc)]
 
 use super::types::*;
-use super::{V3, state};
+use super::{V3, refuse, state};
 use crate::fmi::FmiError;
 use crate::fmi::instance::*;
 use crate::fmi::values::no_variables;
@@ -224,13 +224,7 @@ pub unsafe extern "C" fn fmi3SetShiftFraction(
 /// `instance` is an instance.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi3EvaluateDiscreteStates(instance: fmi3Instance) -> fmi3Status {
-    enter_as(
-        instance,
-        V3,
-        "fmi3EvaluateDiscreteStates",
-        state::DISCRETE_STATES,
-        |_| Err(FmiError::NotProvided(NO_EVENT_MODE)),
-    )
+    refuse(instance, "fmi3EvaluateDiscreteStates", state::DISCRETE_STATES, NO_EVENT_MODE)
 }
 
 /// An event iteration of a Model Exchange instance: no discrete states, no events, so
@@ -289,15 +283,5 @@ pub unsafe extern "C" fn fmi3ActivateModelPartition(
     activationTime: fmi3Float64,
 ) -> fmi3Status {
     let _ = (clockReference, activationTime); // not needed: refused
-    enter_as(
-        instance,
-        V3,
-        "fmi3ActivateModelPartition",
-        state::ACTIVATE_MODEL_PARTITION,
-        |_| {
-            Err(FmiError::NotProvided(
-                "this FMU provides no Scheduled Execution",
-            ))
-        },
-    )
+    refuse(instance, "fmi3ActivateModelPartition", state::ACTIVATE_MODEL_PARTITION, "this FMU provides no Scheduled Execution")
 }

@@ -10,7 +10,7 @@
 use std::ffi::c_char;
 use std::path::PathBuf;
 
-use super::V3;
+use super::{V3, refuse};
 use super::state;
 use super::types::*;
 use crate::fmi::FmiError;
@@ -321,17 +321,7 @@ pub unsafe extern "C" fn fmi3EnterEventMode(instance: fmi3Instance) -> fmi3Statu
 /// `instance` is an instance from fmi3InstantiateCoSimulation.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi3EnterStepMode(instance: fmi3Instance) -> fmi3Status {
-    enter_as(
-        instance,
-        V3,
-        "fmi3EnterStepMode",
-        state::ENTER_STEP_MODE,
-        |_| {
-            Err(FmiError::NotProvided(
-                "this FMU has no event mode (hasEventMode=\"false\")",
-            ))
-        },
-    )
+    refuse(instance, "fmi3EnterStepMode", state::ENTER_STEP_MODE, "this FMU has no event mode (hasEventMode=\"false\")")
 }
 
 /// Not provided (no structural parameters): logs why, returns fmi3Error.
@@ -340,17 +330,7 @@ pub unsafe extern "C" fn fmi3EnterStepMode(instance: fmi3Instance) -> fmi3Status
 /// `instance` is an instance from fmi3InstantiateCoSimulation.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi3EnterConfigurationMode(instance: fmi3Instance) -> fmi3Status {
-    enter_as(
-        instance,
-        V3,
-        "fmi3EnterConfigurationMode",
-        state::ENTER_CONFIGURATION_MODE,
-        |_| {
-            Err(FmiError::NotProvided(
-                "this FMU has no structural parameters",
-            ))
-        },
-    )
+    refuse(instance, "fmi3EnterConfigurationMode", state::ENTER_CONFIGURATION_MODE, "this FMU has no structural parameters")
 }
 
 /// Configuration Mode is never entered: refused in every state.
@@ -359,17 +339,7 @@ pub unsafe extern "C" fn fmi3EnterConfigurationMode(instance: fmi3Instance) -> f
 /// `instance` is an instance from fmi3InstantiateCoSimulation.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi3ExitConfigurationMode(instance: fmi3Instance) -> fmi3Status {
-    enter_as(
-        instance,
-        V3,
-        "fmi3ExitConfigurationMode",
-        state::EXIT_CONFIGURATION_MODE,
-        |_| {
-            Err(FmiError::NotProvided(
-                "this FMU has no structural parameters",
-            ))
-        },
-    )
+    refuse(instance, "fmi3ExitConfigurationMode", state::EXIT_CONFIGURATION_MODE, "this FMU has no structural parameters")
 }
 
 /// End the simulation.

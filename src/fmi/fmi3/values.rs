@@ -11,7 +11,7 @@
 
 use super::state;
 use super::types::*;
-use super::{V3, names_time, scalars};
+use super::{V3, refuse, names_time, scalars};
 use crate::fmi::FmiError;
 use crate::fmi::instance::*;
 use crate::fmi::values::{
@@ -266,17 +266,7 @@ pub unsafe extern "C" fn fmi3GetAdjointDerivative(
         sensitivity,
         nSensitivity,
     );
-    enter_as(
-        instance,
-        V3,
-        "fmi3GetAdjointDerivative",
-        state::GET_DERIVATIVES,
-        |_| {
-            Err(FmiError::NotProvided(
-                "not provided by this FMU (providesAdjointDerivatives=\"false\")",
-            ))
-        },
-    )
+    refuse(instance, "fmi3GetAdjointDerivative", state::GET_DERIVATIVES, "not provided by this FMU (providesAdjointDerivatives=\"false\")")
 }
 
 /// The reason both dependency queries give.
@@ -295,13 +285,7 @@ pub unsafe extern "C" fn fmi3GetNumberOfVariableDependencies(
     nDependencies: *mut usize,
 ) -> fmi3Status {
     let _ = (valueReference, nDependencies); // not needed: refused
-    enter_as(
-        instance,
-        V3,
-        "fmi3GetNumberOfVariableDependencies",
-        state::DEPENDENCIES,
-        |_| Err(FmiError::NotProvided(NO_ELEMENT_DEPENDENCIES)),
-    )
+    refuse(instance, "fmi3GetNumberOfVariableDependencies", state::DEPENDENCIES, NO_ELEMENT_DEPENDENCIES)
 }
 
 /// Not provided (providesPerElementDependencies="false"): logs why, returns fmi3Error.
@@ -327,11 +311,5 @@ pub unsafe extern "C" fn fmi3GetVariableDependencies(
         dependencyKinds,
         nDependencies,
     );
-    enter_as(
-        instance,
-        V3,
-        "fmi3GetVariableDependencies",
-        state::DEPENDENCIES,
-        |_| Err(FmiError::NotProvided(NO_ELEMENT_DEPENDENCIES)),
-    )
+    refuse(instance, "fmi3GetVariableDependencies", state::DEPENDENCIES, NO_ELEMENT_DEPENDENCIES)
 }
