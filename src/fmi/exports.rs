@@ -189,16 +189,23 @@ pub(crate) fn exit_initialization(inst: &mut Instance) -> Outcome {
     Ok(fmi2OK)
 }
 
-/// Refuse a co-simulation function (input and output derivatives, the status queries)
-/// on a Model Exchange instance in a state the co-simulation table allows it.
-pub(crate) fn co_simulation_only(inst: &Instance) -> Result<(), FmiError> {
-    match inst.interface {
-        Interface::CoSimulation => Ok(()),
-        Interface::ModelExchange => Err(FmiError::WrongInterface {
-            function_of: "co-simulation",
-            instance: "Model Exchange",
-        }),
+/// Refuse a function of `interface` on an instance serving the other one (a
+/// co-simulation function on a Model Exchange instance, in a state the co-simulation
+/// table allows it, or the reverse).
+pub(crate) fn only_for(inst: &Instance, interface: Interface) -> Result<(), FmiError> {
+    if inst.interface == interface {
+        Ok(())
+    } else {
+        Err(FmiError::WrongInterface {
+            function_of: interface.name(),
+            instance: inst.interface.name(),
+        })
     }
+}
+
+/// [`only_for`] co-simulation (input and output derivatives, the status queries).
+pub(crate) fn co_simulation_only(inst: &Instance) -> Result<(), FmiError> {
+    only_for(inst, Interface::CoSimulation)
 }
 
 /// Back to the instantiated state with start values (both versions).

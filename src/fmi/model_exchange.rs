@@ -37,13 +37,7 @@ pub struct fmi2EventInfo {
 
 /// Refuse a Model Exchange function on a co-simulation instance.
 pub(crate) fn model_exchange_only(inst: &Instance) -> Result<(), FmiError> {
-    match inst.interface {
-        Interface::ModelExchange => Ok(()),
-        Interface::CoSimulation => Err(FmiError::WrongInterface {
-            function_of: "Model Exchange",
-            instance: "co-simulation",
-        }),
-    }
+    super::exports::only_for(inst, Interface::ModelExchange)
 }
 
 /// The body of fmi2SetTime and fmi3SetTime.

@@ -261,10 +261,68 @@ pub fn log_env(sink: &LogSink) -> Box<fxbody_host::LogEnv> {
 /// An instance created through `fmi2Instantiate` of this crate (not a loaded copy),
 /// with its own log. Freed on drop unless already freed.
 pub struct Slave {
-    pub c: fmi2Component,
-    pub log: Box<LogSink>,
+    /// The instance and its log, looked into alike for both FMI versions.
+    h: Handle,
     /// The logger's environment, at a fixed address for the instance's life.
     _env: Box<fxbody_host::LogEnv>,
+}
+
+/// An instance of this crate (of either FMI version) and its log: the white-box view the
+/// FMI 2.0 [`Slave`] and the FMI 3.0 [`super::fmu3::Slave3`] share (each derefs to it).
+pub struct Handle {
+    pub c: *mut c_void,
+    pub log: Box<LogSink>,
+}
+
+impl Handle {
+    /// Look inside: the FMI state the instance is in (white box, for the checks only).
+    pub fn fmi_state(&self) -> FmiState {
+        // SAFETY: `c` is a live instance of this crate, no call is running on it.
+        unsafe { &*self.c.cast::<Inner>() }.state
+    }
+
+    /// Look inside: force the FMI state (white box: to show that a refused call left the
+    /// model able to continue exactly as if it had not been made).
+    pub fn force_state(&self, s: FmiState) {
+        // SAFETY: as in `fmi_state`; exclusive use by this thread.
+        unsafe { &mut *self.c.cast::<Inner>() }.state = s;
+    }
+
+    /// Look inside: the serialised snapshot of the model's complete state (parameters,
+    /// inputs, times, solver), to compare before and after a refused call.
+    pub fn fingerprint(&self) -> Vec<u8> {
+        // SAFETY: as in `fmi_state`.
+        let inner = unsafe { &*self.c.cast::<Inner>() };
+        inner.simulation.snapshot(0).to_bytes("fingerprint")
+    }
+
+    /// Messages so far.
+    pub fn messages(&self) -> Vec<Msg> {
+        self.log.lock().unwrap().clone()
+    }
+
+    /// Text of the last error-status message (fmi2Error and fmi3Error are both 3).
+    pub fn last_error(&self) -> String {
+        self.messages()
+            .iter()
+            .rev()
+            .find(|m| m.status >= fmi2Error)
+            .map(|m| m.text.clone())
+            .unwrap_or_default()
+    }
+}
+
+impl std::ops::Deref for Slave {
+    type Target = Handle;
+    fn deref(&self) -> &Handle {
+        &self.h
+    }
+}
+
+impl std::ops::DerefMut for Slave {
+    fn deref_mut(&mut self) -> &mut Handle {
+        &mut self.h
+    }
 }
 
 impl Slave {
@@ -321,7 +379,10 @@ impl Slave {
         if c.is_null() {
             return Err(log.lock().unwrap().clone());
         }
-        Ok(Slave { c, log, _env: env })
+        Ok(Slave {
+            h: Handle { c, log },
+            _env: env,
+        })
     }
 
     pub fn new(fx: &Packed, name: &str) -> Slave {
@@ -416,42 +477,6 @@ impl Slave {
         };
         (st, s)
     }
-
-    /// Look inside: the FMI state the instance is in (white box, for the checks only).
-    pub fn fmi_state(&self) -> fxbody::fmi::state::FmiState {
-        // SAFETY: `c` is a live instance of this crate, no call is running on it.
-        unsafe { &*self.c.cast::<Inner>() }.state
-    }
-
-    /// Look inside: force the FMI state (white box: to show that a refused call left the
-    /// model able to continue exactly as if it had not been made).
-    pub fn force_state(&self, s: fxbody::fmi::state::FmiState) {
-        // SAFETY: as in `fmi_state`; exclusive use by this thread.
-        unsafe { &mut *self.c.cast::<Inner>() }.state = s;
-    }
-
-    /// Look inside: the serialised snapshot of the model's complete state (parameters,
-    /// inputs, times, solver), to compare before and after a refused call.
-    pub fn fingerprint(&self) -> Vec<u8> {
-        // SAFETY: as in `fmi_state`.
-        let inner = unsafe { &*self.c.cast::<Inner>() };
-        inner.simulation.snapshot(0).to_bytes("fingerprint")
-    }
-
-    /// Messages so far.
-    pub fn messages(&self) -> Vec<Msg> {
-        self.log.lock().unwrap().clone()
-    }
-
-    /// Text of the last error-status message.
-    pub fn last_error(&self) -> String {
-        self.messages()
-            .iter()
-            .rev()
-            .find(|m| m.status >= fmi2Error)
-            .map(|m| m.text.clone())
-            .unwrap_or_default()
-    }
 }
 
 impl Drop for Slave {
@@ -490,7 +515,7 @@ impl Stepper for Slave {
         Slave::do_step(self, t, h)
     }
     fn last_error(&self) -> String {
-        Slave::last_error(self)
+        self.h.last_error()
     }
 }
 

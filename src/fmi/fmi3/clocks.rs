@@ -224,7 +224,12 @@ pub unsafe extern "C" fn fmi3SetShiftFraction(
 /// `instance` is an instance.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi3EvaluateDiscreteStates(instance: fmi3Instance) -> fmi3Status {
-    refuse(instance, "fmi3EvaluateDiscreteStates", state::DISCRETE_STATES, NO_EVENT_MODE)
+    refuse(
+        instance,
+        "fmi3EvaluateDiscreteStates",
+        state::DISCRETE_STATES,
+        NO_EVENT_MODE,
+    )
 }
 
 /// An event iteration of a Model Exchange instance: no discrete states, no events, so
@@ -283,5 +288,10 @@ pub unsafe extern "C" fn fmi3ActivateModelPartition(
     activationTime: fmi3Float64,
 ) -> fmi3Status {
     let _ = (clockReference, activationTime); // not needed: refused
-    refuse(instance, "fmi3ActivateModelPartition", state::ACTIVATE_MODEL_PARTITION, "this FMU provides no Scheduled Execution")
+    refuse(
+        instance,
+        "fmi3ActivateModelPartition",
+        state::ACTIVATE_MODEL_PARTITION,
+        "this FMU provides no Scheduled Execution",
+    )
 }

@@ -10,9 +10,9 @@
 use std::ffi::c_char;
 use std::path::PathBuf;
 
-use super::{V3, refuse};
 use super::state;
 use super::types::*;
+use super::{V3, refuse};
 use crate::fmi::FmiError;
 use crate::fmi::exports::{
     do_step, enter_initialization, exit_initialization, reset, set_debug_logging,
@@ -321,7 +321,12 @@ pub unsafe extern "C" fn fmi3EnterEventMode(instance: fmi3Instance) -> fmi3Statu
 /// `instance` is an instance from fmi3InstantiateCoSimulation.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi3EnterStepMode(instance: fmi3Instance) -> fmi3Status {
-    refuse(instance, "fmi3EnterStepMode", state::ENTER_STEP_MODE, "this FMU has no event mode (hasEventMode=\"false\")")
+    refuse(
+        instance,
+        "fmi3EnterStepMode",
+        state::ENTER_STEP_MODE,
+        "this FMU has no event mode (hasEventMode=\"false\")",
+    )
 }
 
 /// Not provided (no structural parameters): logs why, returns fmi3Error.
@@ -330,7 +335,12 @@ pub unsafe extern "C" fn fmi3EnterStepMode(instance: fmi3Instance) -> fmi3Status
 /// `instance` is an instance from fmi3InstantiateCoSimulation.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi3EnterConfigurationMode(instance: fmi3Instance) -> fmi3Status {
-    refuse(instance, "fmi3EnterConfigurationMode", state::ENTER_CONFIGURATION_MODE, "this FMU has no structural parameters")
+    refuse(
+        instance,
+        "fmi3EnterConfigurationMode",
+        state::ENTER_CONFIGURATION_MODE,
+        "this FMU has no structural parameters",
+    )
 }
 
 /// Configuration Mode is never entered: refused in every state.
@@ -339,7 +349,12 @@ pub unsafe extern "C" fn fmi3EnterConfigurationMode(instance: fmi3Instance) -> f
 /// `instance` is an instance from fmi3InstantiateCoSimulation.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi3ExitConfigurationMode(instance: fmi3Instance) -> fmi3Status {
-    refuse(instance, "fmi3ExitConfigurationMode", state::EXIT_CONFIGURATION_MODE, "this FMU has no structural parameters")
+    refuse(
+        instance,
+        "fmi3ExitConfigurationMode",
+        state::EXIT_CONFIGURATION_MODE,
+        "this FMU has no structural parameters",
+    )
 }
 
 /// End the simulation.

@@ -11,7 +11,7 @@
 
 use super::state;
 use super::types::*;
-use super::{V3, refuse, names_time, scalars};
+use super::{V3, names_time, refuse, scalars};
 use crate::fmi::FmiError;
 use crate::fmi::instance::*;
 use crate::fmi::values::{
@@ -266,7 +266,12 @@ pub unsafe extern "C" fn fmi3GetAdjointDerivative(
         sensitivity,
         nSensitivity,
     );
-    refuse(instance, "fmi3GetAdjointDerivative", state::GET_DERIVATIVES, "not provided by this FMU (providesAdjointDerivatives=\"false\")")
+    refuse(
+        instance,
+        "fmi3GetAdjointDerivative",
+        state::GET_DERIVATIVES,
+        "not provided by this FMU (providesAdjointDerivatives=\"false\")",
+    )
 }
 
 /// The reason both dependency queries give.
@@ -285,7 +290,12 @@ pub unsafe extern "C" fn fmi3GetNumberOfVariableDependencies(
     nDependencies: *mut usize,
 ) -> fmi3Status {
     let _ = (valueReference, nDependencies); // not needed: refused
-    refuse(instance, "fmi3GetNumberOfVariableDependencies", state::DEPENDENCIES, NO_ELEMENT_DEPENDENCIES)
+    refuse(
+        instance,
+        "fmi3GetNumberOfVariableDependencies",
+        state::DEPENDENCIES,
+        NO_ELEMENT_DEPENDENCIES,
+    )
 }
 
 /// Not provided (providesPerElementDependencies="false"): logs why, returns fmi3Error.
@@ -311,5 +321,10 @@ pub unsafe extern "C" fn fmi3GetVariableDependencies(
         dependencyKinds,
         nDependencies,
     );
-    refuse(instance, "fmi3GetVariableDependencies", state::DEPENDENCIES, NO_ELEMENT_DEPENDENCIES)
+    refuse(
+        instance,
+        "fmi3GetVariableDependencies",
+        state::DEPENDENCIES,
+        NO_ELEMENT_DEPENDENCIES,
+    )
 }

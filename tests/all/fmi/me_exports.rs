@@ -404,3 +404,131 @@ fn every_model_exchange_call_in_every_state_where_it_is_illegal() {
     print_counts("Model Exchange misuse matrix", &counts);
     assert!(counts["illegal state"] > 60, "{counts:?}");
 }
+
+/// FMI 3.0 Model Exchange through its own exports, beside FMI 2.0's on the same body:
+/// the same states, derivatives, nominals and directional derivative, bit for bit (one
+/// model behind both versions); FMI 3.0's state machine (Event Mode after
+/// initialisation, fmi3UpdateDiscreteStates asks for nothing, fmi3DoStep illegal in
+/// Continuous-Time Mode, fmi3CompletedIntegratorStep's flags false).
+#[test]
+fn fmi3_model_exchange_matches_fmi2_bit_for_bit() {
+    use crate::common::fmu::packed_with;
+    use crate::common::fmu3::Slave3;
+    use fxbody::fmi::fmi3::exports as e3;
+    use fxbody::fmi::fmi3::model_exchange as me3;
+    use fxbody::fmi::fmi3::types::*;
+    use fxbody::fmi::fmi3::values as v3;
+    use fxbody::fmi::state::FmiState;
+    use fxbody::fmu::fmi_version::FmiVersion;
+    use fxbody::fmu::interface::Interfaces;
+
+    let fx2 = packed_me("me_v2");
+    let fx3 = packed_with(
+        "me_v3",
+        "cantilever",
+        121,
+        None,
+        FmiVersion::Fmi3,
+        Interfaces::ModelExchange,
+    );
+    let s2 = in_continuous_time(&fx2);
+    let s3 = Slave3::new_me(&fx3, "me3");
+    let n = fx2.p.table.state_count();
+    unsafe {
+        assert_eq!(
+            e3::fmi3EnterInitializationMode(s3.c, false, 0.0, 0.0, false, 0.0),
+            fmi3OK
+        );
+        assert_eq!(e3::fmi3ExitInitializationMode(s3.c), fmi3OK);
+    }
+    assert_eq!(s3.fmi_state(), FmiState::EventMode);
+    let mut flags = [true; 5];
+    let mut next = 1.0;
+    unsafe {
+        let [a, b, c, d, f] = &mut flags;
+        assert_eq!(
+            fxbody::fmi::fmi3::clocks::fmi3UpdateDiscreteStates(s3.c, a, b, c, d, f, &mut next),
+            fmi3OK
+        );
+    }
+    assert_eq!(flags, [false; 5]);
+    unsafe { assert_eq!(me3::fmi3EnterContinuousTimeMode(s3.c), fmi3OK) };
+    let mut count = 0;
+    unsafe {
+        assert_eq!(
+            me3::fmi3GetNumberOfContinuousStates(s3.c, &mut count),
+            fmi3OK
+        )
+    };
+    assert_eq!(count, n);
+    unsafe {
+        assert_eq!(
+            me3::fmi3GetNumberOfEventIndicators(s3.c, &mut count),
+            fmi3OK
+        )
+    };
+    assert_eq!(count, 0);
+    let x: Vec<f64> = (0..n).map(|j| 1e-6 * (0.5 + j as f64).cos()).collect();
+    let (fy2, fy3) = (fx2.vr("node_121.fy"), fx3.vr("node_121.fy"));
+    assert_eq!(fy2, fy3);
+    assert_eq!(s2.set_real(&[fy2], &[2.5]), fmi2OK);
+    let (mut d2, mut d3) = (vec![0.0; n], vec![0.0; n]);
+    let (mut n2, mut n3) = (vec![0.0; n], vec![0.0; n]);
+    unsafe {
+        assert_eq!(v3::fmi3SetFloat64(s3.c, &fy3, 1, &2.5, 1), fmi3OK);
+        assert_eq!(fmi2SetTime(s2.c, 0.02), fmi2OK);
+        assert_eq!(me3::fmi3SetTime(s3.c, 0.02), fmi3OK);
+        assert_eq!(fmi2SetContinuousStates(s2.c, x.as_ptr(), n), fmi2OK);
+        assert_eq!(me3::fmi3SetContinuousStates(s3.c, x.as_ptr(), n), fmi3OK);
+        assert_eq!(fmi2GetDerivatives(s2.c, d2.as_mut_ptr(), n), fmi2OK);
+        assert_eq!(
+            me3::fmi3GetContinuousStateDerivatives(s3.c, d3.as_mut_ptr(), n),
+            fmi3OK
+        );
+        assert_eq!(
+            fmi2GetNominalsOfContinuousStates(s2.c, n2.as_mut_ptr(), n),
+            fmi2OK
+        );
+        assert_eq!(
+            me3::fmi3GetNominalsOfContinuousStates(s3.c, n3.as_mut_ptr(), n),
+            fmi3OK
+        );
+    }
+    assert!(d2.iter().any(|v| *v != 0.0));
+    assert_eq!(d2, d3);
+    assert_eq!(n2, n3);
+    let (der, q) = (fx3.vr("der(modal.qd[2])"), fx3.vr("modal.q[2]"));
+    let (mut j2, mut j3) = (0.0, 0.0);
+    unsafe {
+        assert_eq!(
+            fmi2GetDirectionalDerivative(s2.c, &der, 1, &q, 1, &1.0, &mut j2),
+            fmi2OK
+        );
+        assert_eq!(
+            v3::fmi3GetDirectionalDerivative(s3.c, &der, 1, &q, 1, &1.0, 1, &mut j3, 1),
+            fmi3OK
+        );
+    }
+    // d der(qd_2) / d q_2 = -w_2^2.
+    assert!(j2 < 0.0 && j2 == j3, "{j2} {j3}");
+    let (mut ev, mut term) = (true, true);
+    unsafe {
+        assert_eq!(
+            me3::fmi3CompletedIntegratorStep(s3.c, true, &mut ev, &mut term),
+            fmi3OK
+        );
+    }
+    assert!(!ev && !term);
+    // A co-simulation call in Continuous-Time Mode: illegal, logged, nothing changed.
+    let print = s3.fingerprint();
+    let (mut a, mut b, mut c, mut last) = (false, false, false, 0.0);
+    let st = unsafe { e3::fmi3DoStep(s3.c, 0.02, 1e-4, true, &mut a, &mut b, &mut c, &mut last) };
+    assert_eq!(st, fmi3Error);
+    assert!(
+        s3.last_error()
+            .contains("fmi3DoStep: illegal call in state ContinuousTimeMode"),
+        "{}",
+        s3.last_error()
+    );
+    assert!(s3.fingerprint() == print);
+}
