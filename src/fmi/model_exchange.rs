@@ -2,7 +2,7 @@
 //! states, derivatives, nominals, no event indicators, the event and continuous-time
 //! modes, completed integrator steps) and their bodies, which FMI 3.0's exports
 //! ([`super::fmi3::model_exchange`]) share. Every call goes through the same gate as
-//! co-simulation ([`super::instance::enter`]): the state masks of [`super::state`]
+//! co-simulation (`super::instance::enter`): the state masks of `super::state`
 //! refuse a call in a wrong state with a logged reason, and a Model Exchange function
 //! on a co-simulation instance is refused likewise. The model behind is
 //! [`crate::fmu::simulation::Simulation`]'s first-order form: outputs read in Model
