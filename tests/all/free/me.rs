@@ -419,3 +419,20 @@ fn the_jacobian_is_not_claimed() {
     let (mut a, mut b) = (vec![0.0; n * n], vec![0.0; n * 12]);
     assert!(!s.jacobian(&mut a, &mut b));
 }
+
+/// A free body on the implicit (2) or explicit (1) method has no first-order form:
+/// Model Exchange is refused, the message naming the split method (4).
+#[test]
+fn implicit_and_explicit_are_refused_naming_split() {
+    for method in [1, 2] {
+        let mut m = Simulation::new(beam(), "me-free-refused".into());
+        let vr = m.table.vars.iter().find(|v| v.name == "method").unwrap().vr;
+        m.set_integer(vr, method, Phase::Configuring).unwrap();
+        m.setup(0.0, None).unwrap();
+        let e = m.state_count().unwrap_err().to_string();
+        assert!(
+            e.contains("4 (split) for a free one"),
+            "method {method}: {e}"
+        );
+    }
+}
