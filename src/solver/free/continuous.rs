@@ -126,7 +126,7 @@ impl Continuous for Split {
         check_states(x, self.state_count())?;
         let q = state_quaternion(x);
         let norm = q.norm();
-        if !(norm > 1e-3) {
+        if !norm.is_finite() || norm <= 1e-3 {
             return Err(SolverError::BadInput(format!(
                 "the attitude quaternion (continuous states 3..7) has norm {norm}: it must \
                  be a rotation's, of norm 1"

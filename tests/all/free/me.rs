@@ -45,15 +45,22 @@ fn position_vrs(m: &Simulation, nodes: usize) -> Vec<u32> {
         .collect()
 }
 
+/// The derivatives `dx` of the states `x` at time `t`.
+type Rhs<'a> = dyn FnMut(f64, &[f64], &mut [f64]) + 'a;
+
+/// The beam, two models of it (co-simulation and Model Exchange), the tip's fy load and
+/// both nodes' positions (value references).
+fn twins() -> (Scene, Simulation, Simulation, u32, Vec<u32>) {
+    let scene = beam();
+    let (cs, me) = (model(&scene), model(&scene));
+    let fy = vr(&cs, Kind::Load { node: 0, comp: 1 });
+    let pos = position_vrs(&cs, 2);
+    (scene, cs, me, fy, pos)
+}
+
 /// One classical Runge-Kutta step of `dt` from `(t, x)` through `eval(t, x, dx)`,
 /// `k` holding five state-sized work vectors.
-fn rk4(
-    eval: &mut dyn FnMut(f64, &[f64], &mut [f64]),
-    t: f64,
-    dt: f64,
-    x: &mut [f64],
-    k: &mut [Vec<f64>; 5],
-) {
+fn rk4(eval: &mut Rhs, t: f64, dt: f64, x: &mut [f64], k: &mut [Vec<f64>; 5]) {
     let [k1, k2, k3, k4, xs] = k;
     let stage = |xs: &mut Vec<f64>, x: &[f64], kk: &[f64], c: f64| {
         for ((o, a), b) in xs.iter_mut().zip(x).zip(kk) {
@@ -84,10 +91,7 @@ fn work(n: usize) -> [Vec<f64>; 5] {
 /// issue's figure for CVode; measured: printed).
 #[test]
 fn pulse_matches_the_split_method() {
-    let scene = beam();
-    let (mut cs, mut me) = (model(&scene), model(&scene));
-    let fy = vr(&cs, Kind::Load { node: 0, comp: 1 });
-    let pos = position_vrs(&cs, 2);
+    let (scene, mut cs, mut me, fy, pos) = twins();
     let (h, sub, n) = (1e-4, 4 * 10, 200);
     let load = |t: f64| if t < 2e-3 - 1e-12 { 0.1 } else { 0.0 };
     let nx = me.state_count().unwrap();
@@ -313,10 +317,7 @@ fn derivatives_move_the_nodes_at_their_output_velocities() {
 /// the displacement scale: the frame goes through a quaternion and back).
 #[test]
 fn set_states_give_the_co_simulation_outputs() {
-    let scene = beam();
-    let (mut cs, mut me) = (model(&scene), model(&scene));
-    let fy = vr(&cs, Kind::Load { node: 0, comp: 1 });
-    let pos = position_vrs(&cs, 2);
+    let (scene, mut cs, mut me, fy, pos) = twins();
     cs.set_real(fy, 0.3, Phase::Running).unwrap();
     me.set_real(fy, 0.3, Phase::Running).unwrap();
     for i in 0..50 {
