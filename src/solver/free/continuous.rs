@@ -16,7 +16,7 @@
 //!
 //! The derivatives are `X' = V`, `q' = 1/2 (0, omega) * q` (quaternion product, omega
 //! global: `P' = [omega] P`), `(V', omega')` and `y''` from the one acceleration
-//! function the split method's outputs use ([`Split::accelerations`]), so a change of
+//! function the split method's outputs use (`Split::accelerations`), so a change of
 //! the equations there is a change here. `q' . q = 0`: the quaternion's norm is an
 //! invariant of the exact flow, and the frame is read from `q / abs(q)` whatever the
 //! norm, so the master's integration error in the norm moves nothing; the FMU puts the
