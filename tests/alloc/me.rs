@@ -1,10 +1,12 @@
 //! Issue 26.2: Model Exchange's per-evaluation calls (set time, set states, state
-//! derivatives, one position read, a load set) allocate nothing once the solver is built,
-//! on the cantilever and on the truncated cantilever (whose outputs carry the residual
-//! correction's feed-through).
+//! derivatives, a completed integrator step, one position read, a load set) allocate
+//! nothing once the solver is built, on the cantilever and on the truncated cantilever
+//! (whose outputs carry the residual correction's feed-through); the free case uses the
+//! same loop (`free_me.rs`).
 
 use fxbody::fmu::simulation::{Phase, Simulation};
 use fxbody::fmu::vars::Kind;
+use fxbody::scene::Scene;
 
 use crate::alloc_counter;
 use crate::common::fixture_scene;
@@ -13,11 +15,21 @@ use crate::common::fixture_scene;
 fn model_exchange_evaluations_do_not_allocate() {
     let full = fixture_scene("cantilever", &[121, 111]);
     let truncated = full.truncated(2000.0).unwrap().0;
-    for scene in [full, truncated] {
+    evaluations_do_not_allocate([full, truncated], 3);
+}
+
+/// 300 Model Exchange evaluations of each scene on `method` (a load set, set time, set
+/// states, derivatives, a completed integrator step, one position read), from the
+/// model's start states moved by up to 1e-6, allocate nothing; returns how many
+/// completed steps changed the states.
+pub(crate) fn evaluations_do_not_allocate(scenes: [Scene; 2], method: i32) -> usize {
+    let mut changed = 0;
+    for scene in scenes {
         let mut m = Simulation::new(scene.clone(), "alloc-me".into());
         let vr = |m: &Simulation, k: Kind| m.table.vars.iter().find(|v| v.kind == k).unwrap().vr;
-        let method = m.table.vars.iter().find(|v| v.name == "method").unwrap().vr;
-        m.set_integer(method, 3, Phase::Configuring).unwrap();
+        let method_vr = m.table.vars.iter().find(|v| v.name == "method").unwrap().vr;
+        m.set_integer(method_vr, method, Phase::Configuring)
+            .unwrap();
         m.setup(0.0, None).unwrap();
         let (fy, y) = (
             vr(&m, Kind::Load { node: 0, comp: 1 }),
@@ -25,6 +37,8 @@ fn model_exchange_evaluations_do_not_allocate() {
         );
         let n = m.state_count().unwrap();
         let (mut x, mut dx) = (vec![0.0; n], vec![0.0; n]);
+        m.states(&mut x).unwrap();
+        let start = x.clone();
         let mut o = [0.0];
         let before = alloc_counter::allocations();
         let mut moved = 0.0f64;
@@ -34,9 +48,12 @@ fn model_exchange_evaluations_do_not_allocate() {
             m.set_time(t).unwrap();
             m.set_states(&x).unwrap();
             m.derivatives(&mut dx).unwrap();
+            if m.completed_step().unwrap() {
+                changed += 1;
+            }
             // The next state: any finite one will do (no integration needed here).
             for (j, xi) in x.iter_mut().enumerate() {
-                *xi = 1e-6 * (k as f64 + j as f64).sin() + 1e-12 * dx[j].tanh();
+                *xi = start[j] + 1e-6 * (k as f64 + j as f64).sin() + 1e-12 * dx[j].tanh();
             }
             m.get_reals(&[y], &mut o).unwrap();
             moved = moved.max((o[0] - scene.x0[0][1]).abs());
@@ -45,4 +62,5 @@ fn model_exchange_evaluations_do_not_allocate() {
         assert!(moved > 0.0, "the body did not move");
         assert_eq!(after - before, 0, "allocations in 300 evaluations");
     }
+    changed
 }

@@ -27,9 +27,11 @@ impl Simulation {
                 method,
                 why: format!(
                     "Model Exchange integrates the {} method's equations only where they \
-                     are a first-order system of the body alone: use method {} (exact)",
+                     are a first-order system of the body alone: use method {} (exact) \
+                     for a blocked body, {} (split) for a free one",
                     crate::fmu::vars::method_name(method),
-                    Method::Exact as i32
+                    Method::Exact as i32,
+                    Method::Split as i32
                 ),
             })
         })
@@ -55,6 +57,13 @@ impl Simulation {
         let t = self.time;
         self.continuous()?.set_states(t, x)?;
         Ok(())
+    }
+
+    /// The master completed an integrator step (fmi2CompletedIntegratorStep): `true`
+    /// when the method put its states back on their manifold (a free body's quaternion
+    /// normalised) and the master must read them again.
+    pub fn completed_step(&mut self) -> Result<bool, SimulationError> {
+        Ok(self.continuous()?.completed_step())
     }
 
     /// The continuous states (fmi2GetContinuousStates).
