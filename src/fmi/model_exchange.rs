@@ -111,8 +111,10 @@ pub(crate) fn enter_mode(inst: &mut Instance, to: FmiState) -> Outcome {
     Ok(fmi2OK)
 }
 
-/// The body of fmi2CompletedIntegratorStep and fmi3CompletedIntegratorStep: no event,
-/// no termination. A blocked body's states need nothing at a completed step.
+/// The body of fmi2CompletedIntegratorStep and fmi3CompletedIntegratorStep: the method
+/// may put its states back on their manifold (a free body's quaternion normalised;
+/// nothing for a blocked body), and then asks for an event so that the master reads
+/// them again; never a termination.
 ///
 /// # Safety
 /// `enter_event_mode` and `terminate` are NULL (then not written) or writable.
@@ -122,10 +124,11 @@ pub(crate) unsafe fn completed_integrator_step(
     terminate: *mut i32,
 ) -> Outcome {
     model_exchange_only(inst)?;
-    for p in [enter_event_mode, terminate] {
+    let changed = inst.simulation.completed_step()?;
+    for (p, v) in [(enter_event_mode, changed), (terminate, false)] {
         if !p.is_null() {
             // SAFETY: non-null and writable (FMI contract).
-            unsafe { *p = fmi2False };
+            unsafe { *p = i32::from(v) };
         }
     }
     Ok(fmi2OK)

@@ -8,6 +8,9 @@
 //! is that equation, evaluated by the exact method's node accelerations and by its
 //! [`Continuous::derivatives`] alike. The system is linear, `x' = A x + B u`, and
 //! [`Continuous::jacobian`] gives `A` and `B` exactly.
+//!
+//! A free body's form is the split method's, with the attitude as a quaternion
+//! ([`super::free::continuous`]).
 
 use super::SolverError;
 
@@ -36,6 +39,14 @@ pub trait Continuous {
     /// `dx'/dx` (`n x n`) and `dx'/du` (`n x 6m`, loads in the caller's order), column
     /// major, into `a` and `b`; `false` where the method has no exact Jacobian.
     fn jacobian(&self, a: &mut [f64], b: &mut [f64]) -> bool;
+    /// The master completed an integrator step at the current states (FMI
+    /// `CompletedIntegratorStep`): the method may put its states back on their manifold
+    /// (a free body's attitude quaternion to norm 1). `true` when it changed the states:
+    /// the master must read them again before it goes on (FMI: a step event, then
+    /// `valuesOfContinuousStatesChanged`). Nothing to do by default.
+    fn completed_step(&mut self) -> bool {
+        false
+    }
 }
 
 /// Check a state vector for [`Continuous::set_states`].

@@ -93,6 +93,7 @@ macro_rules! free_solver_sampled_velocity {
     };
 }
 
+pub mod continuous;
 pub mod explicit;
 pub mod implicit;
 mod lu;

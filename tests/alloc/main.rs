@@ -14,6 +14,7 @@ static GLOBAL: alloc_counter::Counting = alloc_counter::Counting;
 mod fmi;
 mod format;
 mod free;
+mod free_me;
 mod me;
 mod mutation;
 mod scene;

@@ -30,14 +30,15 @@ impl Simulation {
     }
 
     /// The method the solver is built with: `method`, except under Model Exchange,
-    /// where a blocked body's equations are integrated as the exact method states them
-    /// (the other methods' are discretisations of the same equations, not first-order
-    /// systems of the body alone).
+    /// where the body's own equations are integrated: a blocked body's as the exact
+    /// method states them, a free body's as the split method's first-order form (the
+    /// other methods' are discretisations of the same equations, not first-order systems
+    /// of the body alone).
     pub(super) fn solver_method(&self) -> Method {
-        if self.model_exchange && !self.table.free {
-            Method::Exact
-        } else {
-            self.method
+        match (self.model_exchange, self.table.free) {
+            (false, _) => self.method,
+            (true, false) => Method::Exact,
+            (true, true) => Method::Split,
         }
     }
 
@@ -58,9 +59,11 @@ impl Simulation {
                 method,
                 why: format!(
                     "Model Exchange integrates the {} method's equations only where they \
-                     are a first-order system of the body alone: use method {} (exact)",
+                     are a first-order system of the body alone: use method {} (exact) \
+                     for a blocked body, {} (split) for a free one",
                     crate::fmu::vars::method_name(method),
-                    Method::Exact as i32
+                    Method::Exact as i32,
+                    Method::Split as i32
                 ),
             })
         })?;
@@ -105,6 +108,13 @@ impl Simulation {
         let t = self.time;
         self.continuous()?.set_states(t, x)?;
         Ok(())
+    }
+
+    /// The master completed an integrator step (fmi2CompletedIntegratorStep): `true`
+    /// when the method put its states back on their manifold (a free body's quaternion
+    /// normalised) and the master must read them again.
+    pub fn completed_step(&mut self) -> Result<bool, SimulationError> {
+        Ok(self.continuous()?.completed_step())
     }
 
     /// The continuous states (fmi2GetContinuousStates).

@@ -53,21 +53,28 @@ pub const ROT_STEP: f64 = 0.1;
 /// The split (Strang) solver for a free body.
 #[derive(Debug, Clone)]
 pub struct Split {
-    m: FreeScene,
-    t: f64,
+    pub(super) m: FreeScene,
+    pub(super) t: f64,
     /// Displacement of L0 from its initial position.
-    d: Vector3<f64>,
+    pub(super) d: Vector3<f64>,
     /// The frame (a rotation).
-    p: Matrix3<f64>,
+    pub(super) p: Matrix3<f64>,
     /// Rotational DOFs 13..15 (Irot = 1): the integral of omega.
     qrot: Vector3<f64>,
     /// Frame velocity `(V, omega)`: L0's velocity and the angular velocity (global).
-    v6: Vector6<f64>,
+    pub(super) v6: Vector6<f64>,
     /// Modal amplitudes and velocities in the basis of `(K_L, m_eff)`.
-    y: DVector<f64>,
-    yd: DVector<f64>,
+    pub(super) y: DVector<f64>,
+    pub(super) yd: DVector<f64>,
+    /// The accelerations of the current state ([`Split::accelerations`]): modal
+    /// `y''`, and the frame's `(V', omega')`.
+    pub(super) ydd: DVector<f64>,
+    pub(super) a6: Vector6<f64>,
+    /// Model Exchange's attitude quaternion and the frame it was read into
+    /// ([`super::continuous`]).
+    pub(super) attitude: super::continuous::Attitude,
     loads: Loads,
-    c: Consts,
+    pub(super) c: Consts,
     w: Work,
     /// Outputs at the current time: coordinates, velocities, accelerations (`nq` each).
     q: DVector<f64>,
@@ -78,18 +85,18 @@ pub struct Split {
     next_slot: usize,
     /// The state before the current step, restored when the step fails (sized at
     /// build).
-    rollback: Rollback,
+    pub(super) rollback: Rollback,
     warned: bool,
 }
 
 /// What depends on the body only.
 #[derive(Debug, Clone)]
-struct Consts {
+pub(super) struct Consts {
     /// M_R row-major.
     m_r: Vec<f64>,
     /// Modal basis: `alpha = S y`, `S^T m_eff S = I`, `S^T K_L S = diag(w^2)`.
-    s: DMatrix<f64>,
-    omega: Vec<f64>,
+    pub(super) s: DMatrix<f64>,
+    pub(super) omega: Vec<f64>,
     w2: Vec<f64>,
     damp: Vec<f64>,
     /// The modes drag rigid motion (`B != 0`): the predictor pass of `L` is needed.
@@ -207,7 +214,10 @@ impl Split {
             qrot: Vector3::zeros(),
             v6,
             y: z.clone(),
-            yd: z,
+            yd: z.clone(),
+            ydd: z,
+            a6: Vector6::zeros(),
+            attitude: super::continuous::Attitude::of(&p0),
             c,
             w,
             q: DVector::zeros(nq),
@@ -525,7 +535,7 @@ impl Split {
 
     /// Recompute the outputs (coordinates, velocities, accelerations) of the current
     /// state: section 2's coordinates from the frame, the modes and the momenta.
-    fn refresh(&mut self) -> Result<(), SolverError> {
+    pub(super) fn refresh(&mut self) -> Result<(), SolverError> {
         let (nr, nl) = (self.m.nr, self.m.nl);
         let v6 = self.v6;
         let m6inv = self.frame_terms()?;
@@ -552,27 +562,40 @@ impl Split {
         self.v.rows_mut(0, nr).copy_from(&vr.rows(0, nr));
         self.v.rows_mut(nr, nl).copy_from(&self.w.vl);
         // Accelerations from the equations of motion at this instant.
-        let t = self.t;
-        let q6 = self.local_loads(t, &v6, &m6inv, Out::A);
-        let w = &mut self.w;
-        w.g0.gemv_tr(1.0, &self.c.s, &w.fa, 0.0);
-        for i in 0..nl {
-            w.g0[i] -= self.c.damp[i] * self.yd[i] + self.c.w2[i] * self.y[i];
-        }
-        w.g1.gemv(1.0, &self.c.s, &w.g0, 0.0);
-        // a6 = M6^-1 (Q6 - G^T M_C a_L), a_R = G a6 + c.
-        w.f_r.gemv(1.0, &w.mc, &w.g1, 0.0);
-        let mut ba = Vector6::zeros();
-        for k in 0..6 {
-            ba[k] = (0..nr).map(|i| g[(i, k)] * w.f_r[i]).sum();
-        }
-        let ar = g * (m6inv * (q6 - ba));
+        self.accelerations(&m6inv);
+        let ar = g * self.a6;
         let c = centripetal(&self.p, &v6);
         for i in 0..nr {
             self.acc[i] = ar[i] + c[i];
         }
-        self.acc.rows_mut(nr, nl).copy_from(&w.g1);
+        self.acc.rows_mut(nr, nl).copy_from(&self.w.g1);
         Ok(())
+    }
+
+    /// The body's accelerations at the current state, time and loads: the one
+    /// acceleration function of section 11's equations as a first-order system. The
+    /// modal accelerations `y''` go to `self.ydd`, their local coordinates `S y''` to
+    /// `w.g1`, and the frame's `a6 = (V', omega') = M6^-1 (Q6 - G^T M_C a_L)` to
+    /// `self.a6`. The co-simulation outputs ([`Split::refresh`]) and Model Exchange's
+    /// derivatives (`free::continuous`) both read it. `w.alpha` must hold `S y`, `w.mc`
+    /// and `w.kc` the current frame's matrices, `m6inv` its `M6^-1`.
+    fn accelerations(&mut self, m6inv: &Matrix6<f64>) {
+        let nr = self.m.nr;
+        let (t, v6) = (self.t, self.v6);
+        let q6 = self.local_loads(t, &v6, m6inv, Out::A);
+        let w = &mut self.w;
+        w.g0.gemv_tr(1.0, &self.c.s, &w.fa, 0.0);
+        for (i, a) in self.ydd.iter_mut().enumerate() {
+            *a = w.g0[i] - (self.c.damp[i] * self.yd[i] + self.c.w2[i] * self.y[i]);
+        }
+        w.g1.gemv(1.0, &self.c.s, &self.ydd, 0.0);
+        w.f_r.gemv(1.0, &w.mc, &w.g1, 0.0);
+        let g = rigid::g_matrix(&self.p, nr);
+        let mut ba = Vector6::zeros();
+        for k in 0..6 {
+            ba[k] = (0..nr).map(|i| g[(i, k)] * w.f_r[i]).sum();
+        }
+        self.a6 = m6inv * (q6 - ba);
     }
 }
 
@@ -673,6 +696,10 @@ impl Solver for Split {
         })?;
         let spin = self.spin_rate();
         Ok(spin_warning(&self.m, spin, &mut self.warned))
+    }
+
+    fn continuous(&mut self) -> Option<&mut dyn crate::solver::continuous::Continuous> {
+        Some(self)
     }
 
     fn set_state(&mut self, state: &State) -> Result<(), SolverError> {

@@ -6,6 +6,7 @@ mod fe_reference;
 mod frame_rates;
 mod held_loads;
 mod implicit;
+mod me;
 mod radioss_differences;
 mod rotations;
 mod spin;
