@@ -613,10 +613,12 @@ fmi2Status fmi2SetString(fmi2Component c,
                          const fmi2String *value);
 
 /*
- Not provided (providesDirectionalDerivative="false"): logs why, returns fmi2Error.
+ The directional derivative of state derivatives with respect to states and load
+ inputs, exact (Model Exchange instances; co-simulation declares
+ providesDirectionalDerivative="false" and is refused).
 
  # Safety
- `c` is an instance.
+ `c` is an instance; the arrays hold `nUnknown` and `nKnown` elements.
  */
 fmi2Status fmi2GetDirectionalDerivative(fmi2Component c,
                                         const fmi2ValueReference *vUnknown_ref,
@@ -750,7 +752,10 @@ fmi3Instance fmi3InstantiateCoSimulation(fmi3String instanceName,
                                          fmi3IntermediateUpdateCallback intermediateUpdate);
 
 /*
- Not provided (no `<ModelExchange>` element): NULL with a logged reason.
+ Create a Model Exchange instance (an FMU packed with `--interface me` or `both`):
+ the arguments copied, the body and scene read from the resources folder, the
+ instantiation token checked. NULL (with a logged reason, if loggingOn) on any
+ failure, an FMU packed for co-simulation only among them.
 
  # Safety
  String arguments are NULL or NUL-terminated.
@@ -812,10 +817,11 @@ fmi3Status fmi3EnterInitializationMode(fmi3Instance instance,
 fmi3Status fmi3ExitInitializationMode(fmi3Instance instance);
 
 /*
- Not provided (hasEventMode="false"): logs why, returns fmi3Error.
+ Into Event Mode: Model Exchange instances (from Continuous-Time Mode); a
+ co-simulation instance has no event mode (hasEventMode="false") and is refused.
 
  # Safety
- `instance` is an instance from fmi3InstantiateCoSimulation.
+ `instance` is an instance.
  */
 fmi3Status fmi3EnterEventMode(fmi3Instance instance);
 
@@ -948,10 +954,13 @@ fmi3Status fmi3GetOutputDerivatives(fmi3Instance instance,
                                     size_t nValues);
 
 /*
- Not provided (providesDirectionalDerivatives="false"): logs why, returns fmi3Error.
+ The directional derivative of state derivatives with respect to states and load
+ inputs, exact (Model Exchange instances; co-simulation declares
+ providesDirectionalDerivatives="false" and is refused). Every variable is a scalar:
+ nSeed is nKnowns and nSensitivity nUnknowns.
 
  # Safety
- `instance` is an instance.
+ `instance` is an instance; the arrays hold their lengths' elements.
  */
 fmi3Status fmi3GetDirectionalDerivative(fmi3Instance instance,
                                         const fmi3ValueReference *unknowns,
@@ -1453,10 +1462,11 @@ fmi3Status fmi3SetShiftFraction(fmi3Instance instance,
 fmi3Status fmi3EvaluateDiscreteStates(fmi3Instance instance);
 
 /*
- Not provided (no clocks, no event mode): logs why, returns fmi3Error.
+ An event iteration of a Model Exchange instance: no discrete states, no events, so
+ nothing to update and no time event. A co-simulation instance has no event mode.
 
  # Safety
- `instance` is an instance.
+ `instance` is an instance; the output arguments are NULL or writable.
  */
 fmi3Status fmi3UpdateDiscreteStates(fmi3Instance instance,
                                     fmi3Boolean *discreteStatesNeedUpdate,
@@ -1477,7 +1487,7 @@ fmi3Status fmi3ActivateModelPartition(fmi3Instance instance,
                                       fmi3Float64 activationTime);
 
 /*
- Model Exchange: not provided.
+ Into Continuous-Time Mode.
 
  # Safety
  `instance` is an instance.
@@ -1485,10 +1495,10 @@ fmi3Status fmi3ActivateModelPartition(fmi3Instance instance,
 fmi3Status fmi3EnterContinuousTimeMode(fmi3Instance instance);
 
 /*
- Model Exchange: not provided.
+ A completed integrator step: no event, no termination.
 
  # Safety
- `instance` is an instance.
+ `instance` is an instance; the two flags are writable.
  */
 fmi3Status fmi3CompletedIntegratorStep(fmi3Instance instance,
                                        fmi3Boolean noSetFMUStatePriorToCurrentPoint,
@@ -1496,7 +1506,7 @@ fmi3Status fmi3CompletedIntegratorStep(fmi3Instance instance,
                                        fmi3Boolean *terminateSimulation);
 
 /*
- Model Exchange: not provided.
+ Set the time.
 
  # Safety
  `instance` is an instance.
@@ -1504,27 +1514,27 @@ fmi3Status fmi3CompletedIntegratorStep(fmi3Instance instance,
 fmi3Status fmi3SetTime(fmi3Instance instance, fmi3Float64 time);
 
 /*
- Model Exchange: not provided.
+ Set the continuous states.
 
  # Safety
- `instance` is an instance.
+ `instance` is an instance; `continuousStates` holds `nContinuousStates` values.
  */
 fmi3Status fmi3SetContinuousStates(fmi3Instance instance,
                                    const fmi3Float64 *continuousStates,
                                    size_t nContinuousStates);
 
 /*
- Model Exchange: not provided.
+ The state derivatives.
 
  # Safety
- `instance` is an instance.
+ `instance` is an instance; `derivatives` holds `nContinuousStates` writable values.
  */
 fmi3Status fmi3GetContinuousStateDerivatives(fmi3Instance instance,
                                              fmi3Float64 *derivatives,
                                              size_t nContinuousStates);
 
 /*
- Model Exchange: not provided.
+ No event indicators (`nEventIndicators` must be 0).
 
  # Safety
  `instance` is an instance.
@@ -1534,38 +1544,39 @@ fmi3Status fmi3GetEventIndicators(fmi3Instance instance,
                                   size_t nEventIndicators);
 
 /*
- Model Exchange: not provided.
+ The continuous states.
 
  # Safety
- `instance` is an instance.
+ `instance` is an instance; `continuousStates` holds `nContinuousStates` writable
+ values.
  */
 fmi3Status fmi3GetContinuousStates(fmi3Instance instance,
                                    fmi3Float64 *continuousStates,
                                    size_t nContinuousStates);
 
 /*
- Model Exchange: not provided.
+ The states' nominal magnitudes.
 
  # Safety
- `instance` is an instance.
+ `instance` is an instance; `nominals` holds `nContinuousStates` writable values.
  */
 fmi3Status fmi3GetNominalsOfContinuousStates(fmi3Instance instance,
                                              fmi3Float64 *nominals,
                                              size_t nContinuousStates);
 
 /*
- Model Exchange: not provided.
+ The number of event indicators: 0.
 
  # Safety
- `instance` is an instance.
+ `instance` is an instance; `nEventIndicators` is writable.
  */
 fmi3Status fmi3GetNumberOfEventIndicators(fmi3Instance instance, size_t *nEventIndicators);
 
 /*
- Model Exchange: not provided.
+ The number of continuous states.
 
  # Safety
- `instance` is an instance.
+ `instance` is an instance; `nContinuousStates` is writable.
  */
 fmi3Status fmi3GetNumberOfContinuousStates(fmi3Instance instance, size_t *nContinuousStates);
 

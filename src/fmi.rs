@@ -28,6 +28,7 @@ pub mod instance;
 #[cfg(not(feature = "test-internals"))]
 mod instance;
 mod instantiate;
+pub mod model_exchange;
 #[cfg(feature = "test-internals")]
 #[doc(hidden)]
 pub mod state;

@@ -6,6 +6,7 @@ pub mod fmi_version;
 pub mod guard;
 pub mod hash;
 pub mod header;
+pub mod interface;
 pub mod options;
 pub mod osp;
 pub mod pack;

@@ -38,9 +38,29 @@ pub enum FmiError {
     /// fmi2Instantiate without a resource location.
     #[error("fmuResourceLocation is NULL: the FMU needs its resources folder")]
     NoResourceLocation,
-    /// fmi2Instantiate for Model Exchange.
-    #[error("fmuType {0}: this FMU provides co-simulation (1) only")]
+    /// fmi2Instantiate with an fmuType that is neither Model Exchange (0) nor
+    /// co-simulation (1).
+    #[error("fmuType {0}: expected fmi2ModelExchange (0) or fmi2CoSimulation (1)")]
     FmuType(i32),
+    /// An interface the FMU was not packed for.
+    #[error(
+        "this FMU does not declare {asked} (it was packed with --interface {declared}; \
+         pack it with --interface both to serve both)"
+    )]
+    InterfaceNotDeclared {
+        /// The interface asked for.
+        asked: &'static str,
+        /// The interfaces declared (`cs`, `me`, `both`).
+        declared: &'static str,
+    },
+    /// A function of the other interface.
+    #[error("a {function_of} function, and this instance is a {instance} one")]
+    WrongInterface {
+        /// The interface the function belongs to.
+        function_of: &'static str,
+        /// The interface of the instance.
+        instance: &'static str,
+    },
     /// The caller's GUID is not the resources'.
     #[error(
         "GUID mismatch: the caller passed {given} but the FMU's resources ({}) give {found}; \

@@ -15,7 +15,7 @@ use super::instantiate::{free_instance, instantiate};
 use super::state::{self, FmiState};
 use super::types::*;
 use super::uri::resource_path;
-use super::version::FmiVersion;
+use super::version::{FmiVersion, Interface};
 
 /// "default": the standard C types of fmi2TypesPlatform.h.
 #[unsafe(no_mangle)]
@@ -116,12 +116,16 @@ pub unsafe extern "C" fn fmi2Instantiate(
         name,
         |n| Log::new(&functions, n, loggingOn != fmi2False),
         || {
-            if fmuType != fmi2CoSimulation {
+            let interface = if fmuType == fmi2CoSimulation {
+                Interface::CoSimulation
+            } else if fmuType == fmi2ModelExchange {
+                Interface::ModelExchange
+            } else {
                 return Err(FmiError::FmuType(fmuType));
-            }
+            };
             let guid = guid.ok_or(FmiError::Null("fmuGUID"))?;
             let location = location.ok_or(FmiError::NoResourceLocation)?;
-            Ok((guid, resource_path(&location)?))
+            Ok((interface, guid, resource_path(&location)?))
         },
     )
 }
@@ -174,12 +178,34 @@ pub(crate) fn enter_initialization(inst: &mut Instance) -> Outcome {
     Ok(fmi2OK)
 }
 
-/// Out of initialisation mode, ready to step (the solver rebuilt if a parameter
-/// changed; both versions).
+/// Out of initialisation mode (the solver rebuilt if a parameter changed; both
+/// versions): ready to step (co-simulation), or in Event Mode (Model Exchange).
 pub(crate) fn exit_initialization(inst: &mut Instance) -> Outcome {
     build_solver(inst)?;
-    inst.state = FmiState::StepComplete;
+    inst.state = match inst.interface {
+        Interface::CoSimulation => FmiState::StepComplete,
+        Interface::ModelExchange => FmiState::EventMode,
+    };
     Ok(fmi2OK)
+}
+
+/// Refuse a function of `interface` on an instance serving the other one (a
+/// co-simulation function on a Model Exchange instance, in a state the co-simulation
+/// table allows it, or the reverse).
+pub(crate) fn only_for(inst: &Instance, interface: Interface) -> Result<(), FmiError> {
+    if inst.interface == interface {
+        Ok(())
+    } else {
+        Err(FmiError::WrongInterface {
+            function_of: interface.name(),
+            instance: inst.interface.name(),
+        })
+    }
+}
+
+/// [`only_for`] co-simulation (input and output derivatives, the status queries).
+pub(crate) fn co_simulation_only(inst: &Instance) -> Result<(), FmiError> {
+    only_for(inst, Interface::CoSimulation)
 }
 
 /// Back to the instantiated state with start values (both versions).
@@ -308,6 +334,7 @@ pub unsafe extern "C" fn fmi2GetStatus(
 ) -> fmi2Status {
     let _ = (s, value); // not needed by this FMU
     enter(c, "fmi2GetStatus", state::GET_STATUS, |inst| {
+        co_simulation_only(inst)?;
         discard(
             inst,
             "fmi2GetStatus: steps are synchronous, no status to report",
@@ -326,6 +353,7 @@ pub unsafe extern "C" fn fmi2GetRealStatus(
     value: *mut fmi2Real,
 ) -> fmi2Status {
     enter(c, "fmi2GetRealStatus", state::GET_STATUS, |inst| {
+        co_simulation_only(inst)?;
         if s != fmi2LastSuccessfulTime {
             return discard(
                 inst,
@@ -353,6 +381,7 @@ pub unsafe extern "C" fn fmi2GetIntegerStatus(
 ) -> fmi2Status {
     let _ = value; // not needed by this FMU
     enter(c, "fmi2GetIntegerStatus", state::GET_STATUS, |inst| {
+        co_simulation_only(inst)?;
         discard(
             inst,
             &format!("fmi2GetIntegerStatus: status kind {s} has no Integer value"),
@@ -371,6 +400,7 @@ pub unsafe extern "C" fn fmi2GetBooleanStatus(
     value: *mut fmi2Boolean,
 ) -> fmi2Status {
     enter(c, "fmi2GetBooleanStatus", state::GET_STATUS, |inst| {
+        co_simulation_only(inst)?;
         if s != fmi2Terminated {
             return discard(
                 inst,
@@ -398,6 +428,7 @@ pub unsafe extern "C" fn fmi2GetStringStatus(
 ) -> fmi2Status {
     let _ = value; // not needed by this FMU
     enter(c, "fmi2GetStringStatus", state::GET_STATUS, |inst| {
+        co_simulation_only(inst)?;
         discard(
             inst,
             &format!("fmi2GetStringStatus: status kind {s}: no pending step"),

@@ -15,14 +15,15 @@ use super::types::*;
 use super::version::{FmiVersion, Interface};
 
 /// Instantiate for `func` of FMI `version`: `log` makes the instance's log for a name,
-/// `args` checks the version's own arguments and gives the GUID the caller passed and
-/// the resources folder. Returns the new instance, or NULL after logging why.
+/// `args` checks the version's own arguments and gives the interface asked for, the
+/// GUID the caller passed and the resources folder. Returns the new instance, or NULL
+/// after logging why (an interface the FMU was not packed for among the reasons).
 pub(crate) fn instantiate(
     func: &str,
     version: FmiVersion,
     name: Option<String>,
     log: impl Fn(&str) -> Log,
-    args: impl FnOnce() -> Result<(String, PathBuf), FmiError>,
+    args: impl FnOnce() -> Result<(Interface, String, PathBuf), FmiError>,
 ) -> *mut c_void {
     let shown = name.as_deref().unwrap_or("");
     // A body whose rigid part does not turn with it (body::invariance): logged as a
@@ -32,8 +33,8 @@ pub(crate) fn instantiate(
         if name.as_deref().is_none_or(|n| n.trim().is_empty()) {
             return Err(FmiError::NoInstanceName);
         }
-        let (guid, dir) = args()?;
-        let model = crate::fmu::simulation::Simulation::from_resources(&dir)?;
+        let (interface, guid, dir) = args()?;
+        let mut model = crate::fmu::simulation::Simulation::from_resources(&dir)?;
         let scene_file = dir.join(crate::scene::io::SCENE_FILE).display().to_string();
         warning = crate::body::invariance::check(&model.scene().body, &scene_file);
         if model.guid != guid {
@@ -43,10 +44,23 @@ pub(crate) fn instantiate(
                 found: model.guid,
             });
         }
+        let declared = match interface {
+            Interface::CoSimulation => model.interfaces.co_simulation(),
+            Interface::ModelExchange => model.interfaces.model_exchange(),
+        };
+        if !declared {
+            return Err(FmiError::InterfaceNotDeclared {
+                asked: interface.name(),
+                declared: model.interfaces.name(),
+            });
+        }
+        if interface == Interface::ModelExchange {
+            model.serve_model_exchange();
+        }
         Ok(Box::new(Instance {
             log: log(shown),
             version,
-            interface: Interface::CoSimulation,
+            interface,
             state: FmiState::Instantiated,
             before_error: FmiState::Instantiated,
             simulation: model,

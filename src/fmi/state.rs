@@ -1,6 +1,10 @@
 //! The FMI call sequence: the instance states and, per function, the set of states in
 //! which it may be called (a bit mask), as the FMI 2.0 co-simulation state table
-//! (section 4.2.4) gives them. In the Error state the table allows reading (Get of
+//! (section 4.2.4) and the Model Exchange one (section 3.2.3) give them. The two
+//! interfaces' states are distinct bits (a co-simulation instance never enters Event or
+//! Continuous-Time Mode, a Model Exchange one never Step Complete), so one mask per
+//! function serves both: a co-simulation function called on a Model Exchange instance
+//! is illegal in its state, and the other way round. In the Error state the table allows reading (Get of
 //! variables, output derivatives, directional derivatives), saving and restoring FMU
 //! states, SetDebugLogging, Reset and FreeInstance; not the status queries, not
 //! Set, DoStep or Terminate. A read or a save in the Error state answers for the last
@@ -32,10 +36,10 @@ pub enum FmiState {
     Error = 128,
     /// After a call returned fmi2Fatal.
     Fatal = 256,
-    /// FMI 3.0 Event Mode (Model Exchange, or co-simulation with event mode; never entered
-    /// by a co-simulation instance of this FMU: hasEventMode="false").
+    /// Event Mode (Model Exchange, or FMI 3.0 co-simulation with event mode; never
+    /// entered by a co-simulation instance of this FMU: hasEventMode="false").
     EventMode = 512,
-    /// FMI 3.0 Continuous-Time Mode (Model Exchange only).
+    /// Continuous-Time Mode (Model Exchange only).
     ContinuousTimeMode = 1024,
 }
 
@@ -60,6 +64,8 @@ impl FmiState {
             StepFailed,
             StepCanceled,
             Terminated,
+            EventMode,
+            ContinuousTimeMode,
         ]
         .into_iter()
         .find(|s| s.code() == c)
@@ -86,6 +92,8 @@ pub const READABLE: u16 = m(&[
     StepComplete,
     StepFailed,
     StepCanceled,
+    EventMode,
+    ContinuousTimeMode,
     Terminated,
 ]);
 /// States whose full picture can be saved.
@@ -95,6 +103,8 @@ const SAVABLE: u16 = m(&[
     StepComplete,
     StepFailed,
     StepCanceled,
+    EventMode,
+    ContinuousTimeMode,
     Terminated,
 ]);
 /// Every state but fatal.
@@ -105,6 +115,8 @@ const NOT_FATAL: u16 = m(&[
     StepInProgress,
     StepFailed,
     StepCanceled,
+    EventMode,
+    ContinuousTimeMode,
     Terminated,
     Error,
 ]);
@@ -118,14 +130,21 @@ pub const ENTER_INITIALIZATION_MODE: u16 = m(&[Instantiated]);
 /// fmi2ExitInitializationMode.
 pub const EXIT_INITIALIZATION_MODE: u16 = m(&[InitializationMode]);
 /// fmi2Terminate.
-pub const TERMINATE: u16 = m(&[StepComplete, StepFailed]);
+pub const TERMINATE: u16 = m(&[StepComplete, StepFailed, EventMode, ContinuousTimeMode]);
 /// fmi2Reset.
 pub const RESET: u16 = NOT_FATAL & !m(&[StepInProgress]);
 /// fmi2Get{Real,Integer,Boolean,String} (in Error: the values of the last consistent
 /// state).
 pub const GET: u16 = READABLE | m(&[Error]);
-/// fmi2Set{Real,Integer,Boolean,String} (which variables: checked by the model).
-pub const SET: u16 = m(&[Instantiated, InitializationMode, StepComplete]);
+/// fmi2Set{Real,Integer,Boolean,String} (which variables: checked by the model; in
+/// Continuous-Time Mode only inputs, which the model's running phase allows alone).
+pub const SET: u16 = m(&[
+    Instantiated,
+    InitializationMode,
+    StepComplete,
+    EventMode,
+    ContinuousTimeMode,
+]);
 /// fmi2GetFMUstate, fmi2SerializedFMUstateSize, fmi2SerializeFMUstate (in Error: the
 /// saved state records the state before the error, so restoring it lands there).
 pub const GET_FMU_STATE: u16 = SAVABLE | m(&[Error]);
@@ -154,6 +173,30 @@ pub const GET_STATUS: u16 = m(&[
     Terminated,
     Error,
 ]);
+
+/// fmi2EnterEventMode.
+pub const ENTER_EVENT_MODE: u16 = m(&[EventMode, ContinuousTimeMode]);
+/// fmi2NewDiscreteStates.
+pub const NEW_DISCRETE_STATES: u16 = m(&[EventMode]);
+/// fmi2EnterContinuousTimeMode.
+pub const ENTER_CONTINUOUS_TIME_MODE: u16 = m(&[EventMode]);
+/// fmi2CompletedIntegratorStep.
+pub const COMPLETED_INTEGRATOR_STEP: u16 = m(&[ContinuousTimeMode]);
+/// fmi2SetTime.
+pub const SET_TIME: u16 = m(&[EventMode, ContinuousTimeMode]);
+/// fmi2SetContinuousStates.
+pub const SET_CONTINUOUS_STATES: u16 = m(&[ContinuousTimeMode]);
+/// fmi2GetDerivatives, fmi2GetEventIndicators, fmi2GetContinuousStates (also in
+/// initialisation mode: the derivatives are initial unknowns).
+pub const GET_CONTINUOUS: u16 = m(&[
+    InitializationMode,
+    EventMode,
+    ContinuousTimeMode,
+    Terminated,
+    Error,
+]);
+/// fmi2GetNominalsOfContinuousStates (also right after instantiation).
+pub const GET_NOMINALS: u16 = GET_CONTINUOUS | m(&[Instantiated]);
 
 #[cfg(test)]
 mod tests {
@@ -243,5 +286,68 @@ mod tests {
             assert_eq!(FmiState::from_code(s.code()), Some(s));
         }
         assert_eq!(FmiState::from_code(Error.code()), None);
+    }
+
+    /// The FMI 2.0 Model Exchange state table (section 3.2.3), per function, written
+    /// out from the standard. Columns: instantiated, initializationMode, eventMode,
+    /// continuousTimeMode, terminated, error, fatal.
+    #[test]
+    fn model_exchange_masks_follow_the_standard_table() {
+        const ORDER: [FmiState; 7] = [
+            Instantiated,
+            InitializationMode,
+            EventMode,
+            ContinuousTimeMode,
+            Terminated,
+            Error,
+            Fatal,
+        ];
+        let table: [(&str, u16, &str); 17] = [
+            ("fmi2SetDebugLogging", SET_DEBUG_LOGGING, "xxxxxx."),
+            ("fmi2SetupExperiment", SETUP_EXPERIMENT, "x......"),
+            (
+                "fmi2ExitInitializationMode",
+                EXIT_INITIALIZATION_MODE,
+                ".x.....",
+            ),
+            ("fmi2Terminate", TERMINATE, "..xx..."),
+            ("fmi2Reset", RESET, "xxxxxx."),
+            ("fmi2GetReal", GET, ".xxxxx."),
+            ("fmi2SetReal", SET, "xxxx..."),
+            ("fmi2GetFMUstate", GET_FMU_STATE, "xxxxxx."),
+            (
+                "fmi2GetDirectionalDerivative",
+                GET_DIRECTIONAL_DERIVATIVE,
+                ".xxxxx.",
+            ),
+            ("fmi2EnterEventMode", ENTER_EVENT_MODE, "..xx..."),
+            ("fmi2NewDiscreteStates", NEW_DISCRETE_STATES, "..x...."),
+            (
+                "fmi2EnterContinuousTimeMode",
+                ENTER_CONTINUOUS_TIME_MODE,
+                "..x....",
+            ),
+            (
+                "fmi2CompletedIntegratorStep",
+                COMPLETED_INTEGRATOR_STEP,
+                "...x...",
+            ),
+            ("fmi2SetTime", SET_TIME, "..xx..."),
+            ("fmi2SetContinuousStates", SET_CONTINUOUS_STATES, "...x..."),
+            ("fmi2GetDerivatives", GET_CONTINUOUS, ".xxxxx."),
+            ("fmi2GetNominalsOfContinuousStates", GET_NOMINALS, "xxxxxx."),
+        ];
+        for (name, mask, row) in table {
+            let want: Vec<bool> = row.chars().map(|c| c == 'x').collect();
+            let got: Vec<bool> = ORDER.iter().map(|s| mask & s.bit() != 0).collect();
+            assert_eq!(got, want, "{name}");
+        }
+        // The co-simulation-only functions are illegal in every Model Exchange state.
+        for mask in [DO_STEP, CANCEL_STEP, GET_STATUS & !Error.bit()] {
+            assert_eq!(mask & m(&[EventMode, ContinuousTimeMode]), 0);
+        }
+        for s in [EventMode, ContinuousTimeMode] {
+            assert_eq!(FmiState::from_code(s.code()), Some(s));
+        }
     }
 }

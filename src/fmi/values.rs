@@ -1,5 +1,5 @@
 //! The value exports: fmi2Get/Set{Real,Integer,Boolean,String}, the input and output
-//! derivatives, and fmi2GetDirectionalDerivative (not provided). Pointer arrays become
+//! derivatives, and fmi2GetDirectionalDerivative (Model Exchange). Pointer arrays become
 //! slices here; the model in [`crate::fmu::simulation`] checks what may be set or read. The
 //! bodies are shared with FMI 3.0's exports ([`super::fmi3::values`]).
 
@@ -293,10 +293,12 @@ pub unsafe extern "C" fn fmi2SetString(
     })
 }
 
-/// Not provided (providesDirectionalDerivative="false"): logs why, returns fmi2Error.
+/// The directional derivative of state derivatives with respect to states and load
+/// inputs, exact (Model Exchange instances; co-simulation declares
+/// providesDirectionalDerivative="false" and is refused).
 ///
 /// # Safety
-/// `c` is an instance.
+/// `c` is an instance; the arrays hold `nUnknown` and `nKnown` elements.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi2GetDirectionalDerivative(
     c: fmi2Component,
@@ -307,19 +309,22 @@ pub unsafe extern "C" fn fmi2GetDirectionalDerivative(
     dvKnown: *const fmi2Real,
     dvUnknown: *mut fmi2Real,
 ) -> fmi2Status {
-    let _ = (
-        vUnknown_ref,
-        nUnknown,
-        vKnown_ref,
-        nKnown,
-        dvKnown,
-        dvUnknown,
-    ); // not needed by this FMU
     enter(
         c,
         "fmi2GetDirectionalDerivative",
         state::GET_DIRECTIONAL_DERIVATIVE,
-        |_| Err(FmiError::NoDirectionalDerivative),
+        |inst| {
+            // SAFETY: the caller's contract, passed on.
+            unsafe {
+                super::model_exchange::directional_derivative(
+                    inst,
+                    (vUnknown_ref, nUnknown),
+                    (vKnown_ref, nKnown),
+                    dvKnown,
+                    dvUnknown,
+                )
+            }
+        },
     )
 }
 
@@ -340,6 +345,7 @@ pub unsafe extern "C" fn fmi2SetRealInputDerivatives(
         "fmi2SetRealInputDerivatives",
         state::SET_REAL_INPUT_DERIVATIVES,
         |inst| {
+            super::exports::co_simulation_only(inst)?;
             // SAFETY: each array holds `nvr` elements (FMI contract).
             let (vrs, ords, vals) = unsafe {
                 (
@@ -386,6 +392,7 @@ pub(crate) unsafe fn output_derivatives(
     order: *const fmi2Integer,
     value: *mut fmi2Real,
 ) -> Outcome {
+    super::exports::co_simulation_only(inst)?;
     // SAFETY: each array holds `nvr` elements; `value` is writable and distinct.
     let (vrs, ords, out) = unsafe {
         (

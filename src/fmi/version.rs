@@ -23,11 +23,24 @@ const _: () = assert!(
 );
 
 /// The interface an instance serves (FMI 2.0's fmuType, FMI 3.0's instantiation
-/// function). Model Exchange joins here, with its states in `FmiState`.
+/// function). Model Exchange's own states (Event and Continuous-Time Mode) are in
+/// `FmiState`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Interface {
     /// Co-simulation: fmi2Instantiate(fmi2CoSimulation), fmi3InstantiateCoSimulation.
     CoSimulation,
+    /// Model Exchange: fmi2Instantiate(fmi2ModelExchange), fmi3InstantiateModelExchange.
+    ModelExchange,
+}
+
+impl Interface {
+    /// Its name in messages.
+    pub fn name(self) -> &'static str {
+        match self {
+            Interface::CoSimulation => "co-simulation",
+            Interface::ModelExchange => "Model Exchange",
+        }
+    }
 }
 
 /// The name of state `s` in the terms of FMI `v`. FMI 3.0 sends an instance whose call

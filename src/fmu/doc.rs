@@ -99,11 +99,7 @@ pub fn index_html_for(
     }
     h.push_str("</table>\n<h2>Variables</h2>\n<table border=\"1\"><tr><th>vr</th><th>name</th><th>causality</th><th>start</th><th>description</th></tr>\n");
     for v in &table.vars {
-        let c = match v.causality {
-            Causality::Parameter => "parameter",
-            Causality::Input => "input",
-            Causality::Output => "output",
-        };
+        let c = v.causality.name();
         let _ = writeln!(
             h,
             "<tr><td>{}</td><td>{}</td><td>{c}</td><td>{}</td><td>{}</td></tr>",

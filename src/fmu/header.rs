@@ -14,7 +14,7 @@ use std::fmt::Write;
 use std::path::Path;
 
 use super::options::SceneOptions;
-use super::vars::{Causality, VarTable, method_name};
+use super::vars::{VarTable, method_name};
 use super::xml::unit;
 
 /// A name as the upper-case C identifier part it becomes: every character outside
@@ -80,11 +80,7 @@ pub fn c_header(p: &str, table: &VarTable, opts: &SceneOptions, guid: &str) -> S
     }
     h.push_str("\n/* Value references (fmi2ValueReference). */\n");
     for v in &table.vars {
-        let causality = match v.causality {
-            Causality::Parameter => "parameter",
-            Causality::Input => "input",
-            Causality::Output => "output",
-        };
+        let causality = v.causality.name();
         let u = opts
             .units
             .and_then(|u| unit(v.quantity, u))

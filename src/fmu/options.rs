@@ -6,11 +6,13 @@
 //! (IDs separated by blanks), `units` (absent: no units declared), `fmax` (Hz; absent:
 //! no mode truncation), `step` and `stop` (s; the DefaultExperiment, absent: derived from
 //! the body), `method` (`explicit`, `implicit` or `exact`: the `method` parameter's start
-//! value; absent: the body's default) and `platforms` (FMI platform names of libraries
-//! added besides linux64, separated by blanks).
+//! value; absent: the body's default), `platforms` (FMI platform names of libraries
+//! added besides linux64, separated by blanks) and `interface` (`me` or `both`: the FMU
+//! declares Model Exchange too, [`Interfaces`]; absent: co-simulation only).
 
 use std::fmt::Write;
 
+use super::interface::Interfaces;
 use super::platforms::{UnknownPlatform, check_platform};
 use super::vars::method_name;
 use crate::scene::Scene;
@@ -74,6 +76,14 @@ pub enum OptionsError {
         /// The value text.
         value: String,
     },
+    /// `interface` naming no interface.
+    #[error("{at}: interface: expected cs, me or both, found '{value}'")]
+    Interface {
+        /// File and line.
+        at: String,
+        /// The value text.
+        value: String,
+    },
     /// `platforms` naming no FMI 2.0 platform.
     #[error("{at}: {source}")]
     Platform {
@@ -131,6 +141,8 @@ pub struct SceneOptions {
     pub method: Option<Method>,
     /// FMI platforms of libraries added besides linux64 (`pack --binary`).
     pub platforms: Vec<String>,
+    /// The interfaces the FMU declares (`pack --interface`).
+    pub interface: Interfaces,
 }
 
 /// A method by its name (`explicit`, `implicit`, `exact`, `split`: the names of
@@ -194,6 +206,11 @@ impl SceneOptions {
         if !self.platforms.is_empty() {
             let _ = writeln!(s, "platforms = {}", self.platforms.join(" "));
         }
+        // Written only when not the default, so that a co-simulation FMU's options (and
+        // GUID) are what they were before Model Exchange existed.
+        if self.interface != Interfaces::CoSimulation {
+            let _ = writeln!(s, "interface = {}", self.interface.name());
+        }
         s
     }
 
@@ -206,6 +223,7 @@ impl SceneOptions {
         let mut fmax = None;
         let (mut step, mut stop, mut method) = (None, None, None);
         let mut platforms = Vec::new();
+        let mut interface = Interfaces::CoSimulation;
         for (k, line) in text.lines().enumerate() {
             let line = line.trim();
             if line.is_empty() || line.starts_with('#') {
@@ -270,6 +288,13 @@ impl SceneOptions {
                         value: value.to_string(),
                     })?);
                 }
+                "interface" => {
+                    interface =
+                        Interfaces::parse(value).ok_or_else(|| OptionsError::Interface {
+                            at,
+                            value: value.to_string(),
+                        })?;
+                }
                 "platforms" => {
                     for p in value.split_whitespace() {
                         check_platform(p).map_err(|source| OptionsError::Platform {
@@ -308,6 +333,7 @@ impl SceneOptions {
             stop,
             method,
             platforms,
+            interface,
         })
     }
 }
@@ -327,6 +353,7 @@ mod tests {
             stop: Some(2.0),
             method: Some(Method::Explicit),
             platforms: vec!["win64".into(), "darwin64".into()],
+            interface: Interfaces::Both,
         };
         let back = SceneOptions::parse(&o.to_text(), "scene.txt").unwrap();
         assert_eq!(back, o);

@@ -58,6 +58,8 @@ pub struct PackOptions {
     pub binaries: Vec<(String, PathBuf)>,
     /// `--fmi 2|3`: the FMI version of the model description (default 2.0).
     pub fmi: FmiVersion,
+    /// `--interface cs|me|both`: the interfaces the FMU declares (default co-simulation).
+    pub interface: super::interface::Interfaces,
 }
 
 /// A scene ready to be described or packed.
@@ -320,6 +322,7 @@ pub fn prepare_reporting(
         stop: popts.stop,
         method: popts.method,
         platforms,
+        interface: popts.interface,
     };
     if req.name.is_none()
         && let Some(why) = reserved(&options.model_identifier())
@@ -334,7 +337,7 @@ pub fn prepare_reporting(
     let scene = make_scene(body, &map, &options, &body_name)?;
     let scene_file = scenefile::to_bytes(&scene);
     let guid = guid(scenefile::checksum_of(&scene_file), &options_text);
-    let table = VarTable::new(&scene).with_default_method(options.method);
+    let table = VarTable::for_options(&scene, &options);
     let (stop, step) = options.experiment(&scene);
     if step > stop {
         return Err(PackError::StepAfterStop {

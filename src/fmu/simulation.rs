@@ -35,6 +35,8 @@ pub struct Simulation {
     pub table: VarTable,
     /// The GUID of the resources this model was read from.
     pub guid: String,
+    /// The interfaces the FMU declares (`pack --interface`, from the resources).
+    pub interfaces: crate::fmu::interface::Interfaces,
     scene: Scene,
     method: Method,
     opts: Options,
@@ -64,6 +66,13 @@ pub struct Simulation {
     start_time: f64,
     stop_time: Option<f64>,
     time: f64,
+    /// Model Exchange: the master integrates the body's own equations, whatever
+    /// `method` says ([`Simulation::solver_method`]).
+    model_exchange: bool,
+    /// Continuous states and derivatives read by value reference (Model Exchange's
+    /// variables), sized when the first-order form is first asked for.
+    xs: Vec<f64>,
+    dxs: Vec<f64>,
 }
 
 impl Simulation {
@@ -75,8 +84,10 @@ impl Simulation {
             options,
         } = load_resources(dir)?;
         let mut model = Simulation::new(scene, guid);
-        // `pack --method`: the start value the description declares.
-        model.table = model.table.with_default_method(options.method);
+        // `pack --method` (the start value the description declares) and `pack
+        // --interface` (Model Exchange's state variables): the description's table.
+        model.table = VarTable::for_options(&model.scene, &options);
+        model.interfaces = options.interface;
         model.method = model.table.default_method;
         Ok(model)
     }
@@ -89,6 +100,7 @@ impl Simulation {
             method: table.default_method,
             table,
             guid,
+            interfaces: Default::default(),
             opts: Options::default(),
             loads: vec![0.0; 6 * m],
             rates: vec![0.0; 6 * m],
@@ -107,6 +119,9 @@ impl Simulation {
             start_time: 0.0,
             stop_time: None,
             time: 0.0,
+            model_exchange: false,
+            xs: Vec::new(),
+            dxs: Vec::new(),
             scene,
         }
     }
@@ -162,9 +177,10 @@ impl Simulation {
     #[cold]
     #[inline(never)]
     fn build_solver(&mut self) -> Result<Option<String>, SimulationError> {
-        let s = solver::build(&self.scene, self.method, &self.opts).map_err(|source| {
+        let method = self.solver_method();
+        let s = solver::build(&self.scene, method, &self.opts).map_err(|source| {
             SimulationError::Build {
-                method: method_name(self.method),
+                method: method_name(method),
                 source,
             }
         })?;
@@ -175,7 +191,7 @@ impl Simulation {
         self.rates_applied = true;
         Ok(Some(format!(
             "built the {} solver: {}, {}, rho_inf {}, damping.ratio {}",
-            method_name(self.method),
+            method_name(method),
             crate::num::count(self.scene.body.nl(), "local mode"),
             crate::num::count(self.scene.nodes.len(), "exposed node"),
             crate::num::num(self.opts.rho_inf),
@@ -458,8 +474,12 @@ impl Simulation {
         // among them, not the body's default.
         let method = self.table.default_method;
         let mut fresh = Simulation::new(scene, guid);
-        fresh.table = fresh.table.with_default_method(Some(method));
+        // The description's table (the packed method, Model Exchange's states) and the
+        // interface the instance serves are kept.
+        fresh.table = std::mem::replace(&mut self.table, fresh.table);
         fresh.method = method;
+        fresh.model_exchange = self.model_exchange;
+        fresh.interfaces = self.interfaces;
         *self = fresh;
     }
 
@@ -557,6 +577,7 @@ impl Simulation {
 fn check_settable(var: &super::vars::Variable, phase: Phase) -> Result<(), SimulationError> {
     match (var.causality, phase) {
         (Causality::Output, _) => Err(SimulationError::Output(var.name.clone())),
+        (Causality::Local, _) => Err(SimulationError::ContinuousState(var.name.clone())),
         (Causality::Parameter, Phase::Running) => {
             Err(SimulationError::FixedParameter(var.name.clone()))
         }

@@ -98,6 +98,32 @@ pub enum SimulationError {
     /// An output cannot be set.
     #[error("{0} is an output: it cannot be set")]
     Output(String),
+    /// A continuous state or derivative variable (Model Exchange) set by value.
+    #[error(
+        "{0} is a continuous state or its derivative: set the states with \
+         fmi2SetContinuousStates (they start at rest)"
+    )]
+    ContinuousState(String),
+    /// A directional derivative with respect to a variable that is neither a
+    /// continuous state nor a load input.
+    #[error(
+        "{name} is not a known of the directional derivative: the knowns are the \
+         continuous states and the load inputs"
+    )]
+    NotAKnown {
+        /// The variable.
+        name: String,
+    },
+    /// A directional derivative of a variable that is neither a state derivative nor
+    /// a continuous state.
+    #[error(
+        "{name}: directional derivatives are provided for the state derivatives (and \
+         the states) only, not for outputs"
+    )]
+    NotAnUnknown {
+        /// The variable.
+        name: String,
+    },
     /// A fixed parameter after initialisation.
     #[error("{0} is a fixed parameter: set it before fmi2ExitInitializationMode")]
     FixedParameter(String),

@@ -6,6 +6,8 @@
 use crate::scene::Scene;
 use crate::solver::{Method, Options};
 
+mod states;
+
 /// FMI causality.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Causality {
@@ -15,6 +17,20 @@ pub enum Causality {
     Input,
     /// Computed by the FMU.
     Output,
+    /// Inside the model, readable (Model Exchange's continuous states and derivatives).
+    Local,
+}
+
+impl Causality {
+    /// The FMI `causality` attribute.
+    pub fn name(self) -> &'static str {
+        match self {
+            Causality::Parameter => "parameter",
+            Causality::Input => "input",
+            Causality::Output => "output",
+            Causality::Local => "local",
+        }
+    }
 }
 
 /// The physical quantity of a variable (for declared units).
@@ -104,6 +120,10 @@ pub enum Kind {
     FrameVelocity(usize),
     /// Angular velocity of the frame, component 0..3 (free bodies).
     FrameAngularVelocity(usize),
+    /// Continuous state `i` (Model Exchange).
+    State(usize),
+    /// The time derivative of continuous state `i` (Model Exchange).
+    Derivative(usize),
 }
 
 /// One scalar variable.
@@ -143,6 +163,8 @@ pub struct VarTable {
     pub default_method: Method,
     /// The methods this body offers, in value order (from [`METHODS`]).
     methods: Vec<Method>,
+    /// The number of continuous states declared (Model Exchange; 0 otherwise).
+    states: usize,
 }
 
 const AXES: [&str; 3] = ["x", "y", "z"];
@@ -392,6 +414,7 @@ impl VarTable {
                 .filter(|i| i.bodies.includes(free))
                 .map(|i| i.method)
                 .collect(),
+            states: 0,
         }
     }
 

@@ -230,7 +230,10 @@ pub(crate) struct Unknown {
     pub initial: Vec<usize>,
 }
 
-/// Every output's [`Unknown`], in table order.
+/// Every output's [`Unknown`], in table order. With Model Exchange's states in the
+/// table, an output also depends on the states that move it (positions, rotations and
+/// the strain energy on the amplitudes, velocities and the kinetic energy on the
+/// velocities: a master sorting its equations needs them).
 pub(crate) fn unknowns(scene: &Scene, table: &VarTable) -> Vec<Unknown> {
     let loads: Vec<usize> = (0..table.vars.len())
         .filter(|&j| matches!(table.vars[j].kind, Kind::Load { .. }))
@@ -239,17 +242,71 @@ pub(crate) fn unknowns(scene: &Scene, table: &VarTable) -> Vec<Unknown> {
         .filter(|&i| table.vars[i].causality == Causality::Output)
         .map(|i| {
             let feeds = feeds_through(scene, table, i);
+            let states = states_moving(table, table.vars[i].kind);
+            let mut outputs = states.clone();
+            if feeds {
+                outputs.extend(&loads);
+            }
+            outputs.sort_unstable();
+            let mut initial: Vec<usize> = (0..table.vars.len())
+                .filter(|&j| {
+                    let p = &table.vars[j];
+                    table.initial_dependency(&table.vars[i], p)
+                        || (feeds && matches!(p.kind, Kind::Load { .. }))
+                })
+                .collect();
+            initial.extend(&states);
+            initial.sort_unstable();
             Unknown {
                 output: i,
-                outputs: if feeds { loads.clone() } else { Vec::new() },
-                initial: (0..table.vars.len())
-                    .filter(|&j| {
-                        let p = &table.vars[j];
-                        table.initial_dependency(&table.vars[i], p)
-                            || (feeds && matches!(p.kind, Kind::Load { .. }))
-                    })
-                    .collect(),
+                outputs,
+                initial,
             }
+        })
+        .collect()
+}
+
+/// The positions in the table of the continuous states an output of kind `kind`
+/// depends on (none without Model Exchange's states): amplitudes (the first half) or
+/// velocities (the second).
+fn states_moving(table: &VarTable, kind: Kind) -> Vec<usize> {
+    let n = table.state_count();
+    let half = match kind {
+        Kind::Position { .. } | Kind::Rotation { .. } | Kind::StrainEnergy => 0..n / 2,
+        Kind::Velocity { .. } | Kind::AngularVelocity { .. } | Kind::KineticEnergy => n / 2..n,
+        _ => 0..0,
+    };
+    half.filter_map(|i| table.state_ref(i).map(|vr| vr as usize))
+        .collect()
+}
+
+/// Each state derivative's [`Unknown`] (Model Exchange's `<Derivatives>` and its initial
+/// unknowns), in table order: `der(q_j)` is `qd_j`; `der(qd_j)` depends on `q_j`, `qd_j`
+/// and the loads.
+pub(crate) fn derivative_unknowns(table: &VarTable) -> Vec<Unknown> {
+    let n = table.state_count();
+    let loads: Vec<usize> = (0..table.vars.len())
+        .filter(|&j| matches!(table.vars[j].kind, Kind::Load { .. }))
+        .collect();
+    let at = |i: usize| table.state_ref(i).map_or(0, |vr| vr as usize);
+    (0..table.vars.len())
+        .filter_map(|d| match table.vars[d].kind {
+            Kind::Derivative(i) => {
+                let deps = if i < n / 2 {
+                    vec![at(i + n / 2)]
+                } else {
+                    let mut v = loads.clone();
+                    v.extend([at(i - n / 2), at(i)]);
+                    v.sort_unstable();
+                    v
+                };
+                Some(Unknown {
+                    output: d,
+                    outputs: deps.clone(),
+                    initial: deps,
+                })
+            }
+            _ => None,
         })
         .collect()
 }
@@ -262,6 +319,9 @@ fn causality_attributes(v: &Variable) -> (&'static str, &'static str, &'static s
         Causality::Parameter => ("parameter", "fixed", " initial=\"exact\""),
         Causality::Input => ("input", "continuous", ""),
         Causality::Output => ("output", "continuous", " initial=\"calculated\""),
+        // Continuous states start at rest (exact); their derivatives are calculated.
+        Causality::Local if v.start.is_some() => ("local", "continuous", " initial=\"exact\""),
+        Causality::Local => ("local", "continuous", " initial=\"calculated\""),
     }
 }
 
@@ -310,14 +370,27 @@ pub fn model_description(
         escape(&description),
         env!("CARGO_PKG_VERSION")
     );
-    let _ = writeln!(
-        x,
-        "  <CoSimulation modelIdentifier=\"{}\" canHandleVariableCommunicationStepSize=\"true\" \
-         canInterpolateInputs=\"true\" maxOutputDerivativeOrder=\"2\" canGetAndSetFMUstate=\"true\" \
-         canSerializeFMUstate=\"true\" providesDirectionalDerivative=\"false\" \
-         canNotUseMemoryManagementFunctions=\"true\"/>",
-        escape(&opts.model_identifier())
-    );
+    if opts.interface.model_exchange() {
+        // No events (numberOfEventIndicators 0); fmi2CompletedIntegratorStep is called
+        // by the master (the default, needed by nothing yet but harmless).
+        let _ = writeln!(
+            x,
+            "  <ModelExchange modelIdentifier=\"{}\" canGetAndSetFMUstate=\"true\" \
+             canSerializeFMUstate=\"true\" providesDirectionalDerivative=\"true\" \
+             canNotUseMemoryManagementFunctions=\"true\"/>",
+            escape(&opts.model_identifier())
+        );
+    }
+    if opts.interface.co_simulation() {
+        let _ = writeln!(
+            x,
+            "  <CoSimulation modelIdentifier=\"{}\" canHandleVariableCommunicationStepSize=\"true\" \
+             canInterpolateInputs=\"true\" maxOutputDerivativeOrder=\"2\" canGetAndSetFMUstate=\"true\" \
+             canSerializeFMUstate=\"true\" providesDirectionalDerivative=\"false\" \
+             canNotUseMemoryManagementFunctions=\"true\"/>",
+            escape(&opts.model_identifier())
+        );
+    }
     if let Some(u) = opts.units {
         x.push_str("  <UnitDefinitions>\n");
         for def in units_used(table, u) {
@@ -353,7 +426,13 @@ pub fn model_description(
                 table.default_method as i32
             );
         } else {
-            let attrs = real_attributes(v, opts);
+            let mut attrs = real_attributes(v, opts);
+            if let Kind::Derivative(i) = v.kind
+                && let Some(state) = table.state_ref(i)
+            {
+                // FMI 2.0 names the state by its 1-based index (= value reference + 1).
+                let _ = write!(attrs, " derivative=\"{}\"", state + 1);
+            }
             let _ = writeln!(x, "      <Real{attrs}/>");
         }
         x.push_str("    </ScalarVariable>\n");
@@ -364,10 +443,24 @@ pub fn model_description(
         let v: Vec<String> = deps.iter().map(|j| (j + 1).to_string()).collect();
         v.join(" ")
     };
-    let unknowns = unknowns(scene, table);
-    for (list, initial) in [("Outputs", false), ("InitialUnknowns", true)] {
+    let outputs = unknowns(scene, table);
+    let derivatives = derivative_unknowns(table);
+    for (list, initial) in [
+        ("Outputs", false),
+        ("Derivatives", false),
+        ("InitialUnknowns", true),
+    ] {
+        let listed: Vec<&Unknown> = match list {
+            "Outputs" => outputs.iter().collect(),
+            "Derivatives" => derivatives.iter().collect(),
+            // Ascending index: the outputs, then the derivatives after them.
+            _ => outputs.iter().chain(&derivatives).collect(),
+        };
+        if listed.is_empty() {
+            continue;
+        }
         let _ = writeln!(x, "    <{list}>");
-        for u in &unknowns {
+        for u in listed {
             let deps = if initial { &u.initial } else { &u.outputs };
             let _ = writeln!(
                 x,

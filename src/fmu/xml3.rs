@@ -5,7 +5,8 @@
 //! requires, at the value reference after the table's ([`VarTable::time_ref`]);
 //! `instantiationToken` the FMU's GUID; ModelStructure naming variables by value
 //! reference. Element order follows the FMI 3.0 schema (CoSimulation, UnitDefinitions,
-//! LogCategories, DefaultExperiment, ModelVariables, ModelStructure, Annotations).
+//! LogCategories, DefaultExperiment, ModelVariables, ModelStructure, Annotations), with
+//! `<ModelExchange>` before `<CoSimulation>` when the FMU declares it.
 
 use std::fmt::Write;
 
@@ -13,8 +14,8 @@ use super::fmi_version::FmiVersion;
 use super::options::SceneOptions;
 use super::vars::{Kind, VarTable, method_range};
 use super::xml::{
-    body_description, categories_and_experiment, escape, real_attributes, unit_element, units_used,
-    unknowns, variable_attributes,
+    body_description, categories_and_experiment, derivative_unknowns, escape, real_attributes,
+    unit_element, units_used, unknowns, variable_attributes,
 };
 use crate::scene::Scene;
 
@@ -43,18 +44,32 @@ pub fn model_description(
         escape(&body_description(scene, table)),
         env!("CARGO_PKG_VERSION")
     );
-    let _ = writeln!(
-        x,
-        "  <CoSimulation modelIdentifier=\"{}\" needsExecutionTool=\"false\" \
-         canBeInstantiatedOnlyOncePerProcess=\"false\" canGetAndSetFMUState=\"true\" \
-         canSerializeFMUState=\"true\" providesDirectionalDerivatives=\"false\" \
-         providesAdjointDerivatives=\"false\" providesPerElementDependencies=\"false\" \
-         canHandleVariableCommunicationStepSize=\"true\" maxOutputDerivativeOrder=\"2\" \
-         providesIntermediateUpdate=\"false\" mightReturnEarlyFromDoStep=\"false\" \
-         canReturnEarlyAfterIntermediateUpdate=\"false\" hasEventMode=\"false\" \
-         providesEvaluateDiscreteStates=\"false\"/>",
-        escape(&opts.model_identifier())
-    );
+    if opts.interface.model_exchange() {
+        // No events; the master calls fmi3CompletedIntegratorStep.
+        let _ = writeln!(
+            x,
+            "  <ModelExchange modelIdentifier=\"{}\" needsExecutionTool=\"false\" \
+             canBeInstantiatedOnlyOncePerProcess=\"false\" canGetAndSetFMUState=\"true\" \
+             canSerializeFMUState=\"true\" providesDirectionalDerivatives=\"true\" \
+             providesAdjointDerivatives=\"false\" providesPerElementDependencies=\"false\" \
+             needsCompletedIntegratorStep=\"true\" providesEvaluateDiscreteStates=\"false\"/>",
+            escape(&opts.model_identifier())
+        );
+    }
+    if opts.interface.co_simulation() {
+        let _ = writeln!(
+            x,
+            "  <CoSimulation modelIdentifier=\"{}\" needsExecutionTool=\"false\" \
+             canBeInstantiatedOnlyOncePerProcess=\"false\" canGetAndSetFMUState=\"true\" \
+             canSerializeFMUState=\"true\" providesDirectionalDerivatives=\"false\" \
+             providesAdjointDerivatives=\"false\" providesPerElementDependencies=\"false\" \
+             canHandleVariableCommunicationStepSize=\"true\" maxOutputDerivativeOrder=\"2\" \
+             providesIntermediateUpdate=\"false\" mightReturnEarlyFromDoStep=\"false\" \
+             canReturnEarlyAfterIntermediateUpdate=\"false\" hasEventMode=\"false\" \
+             providesEvaluateDiscreteStates=\"false\"/>",
+            escape(&opts.model_identifier())
+        );
+    }
     if let Some(u) = opts.units {
         x.push_str("  <UnitDefinitions>\n");
         let mut used = units_used(table, u);
@@ -94,7 +109,14 @@ pub fn model_description(
                 table.default_method as i32
             );
         } else {
-            let _ = writeln!(x, "    <Float64 {common}{}/>", real_attributes(v, opts));
+            let mut attrs = real_attributes(v, opts);
+            if let Kind::Derivative(i) = v.kind
+                && let Some(state) = table.state_ref(i)
+            {
+                // FMI 3.0 names the state by value reference.
+                let _ = write!(attrs, " derivative=\"{state}\"");
+            }
+            let _ = writeln!(x, "    <Float64 {common}{attrs}/>");
         }
     }
     x.push_str("  </ModelVariables>\n  <ModelStructure>\n");
@@ -103,9 +125,17 @@ pub fn model_description(
         let v: Vec<String> = deps.iter().map(|&j| table.vars[j].vr.to_string()).collect();
         v.join(" ")
     };
-    let unknowns = unknowns(scene, table);
-    for (element, initial) in [("Output", false), ("InitialUnknown", true)] {
-        for u in &unknowns {
+    let outputs = unknowns(scene, table);
+    let derivatives = derivative_unknowns(table);
+    // Schema order: Output, ContinuousStateDerivative, InitialUnknown (the outputs',
+    // then the derivatives': ascending value references).
+    for (element, initial, list) in [
+        ("Output", false, &outputs),
+        ("ContinuousStateDerivative", false, &derivatives),
+        ("InitialUnknown", true, &outputs),
+        ("InitialUnknown", true, &derivatives),
+    ] {
+        for u in list {
             let deps = if initial { &u.initial } else { &u.outputs };
             let _ = writeln!(
                 x,

@@ -24,6 +24,7 @@ use fxbody::fmi::instance::Instance as Inner;
 use fxbody::fmi::state::FmiState;
 use fxbody::fmi::types::*;
 use fxbody::fmu::fmi_version::FmiVersion;
+use fxbody::fmu::interface::Interfaces;
 use fxbody::fmu::pack::{PackOptions, PackRequest, Prepared, find_library, pack_opts};
 
 use super::fixture;
@@ -80,6 +81,18 @@ pub fn unpack_as(
     model: Option<&str>,
     fmi: FmiVersion,
 ) -> (Prepared, PathBuf) {
+    unpack_with(dir, body, node, model, fmi, Interfaces::CoSimulation)
+}
+
+/// [`unpack_as`] declaring `interface` (`pack --interface`).
+pub fn unpack_with(
+    dir: &Path,
+    body: &str,
+    node: i64,
+    model: Option<&str>,
+    fmi: FmiVersion,
+    interface: Interfaces,
+) -> (Prepared, PathBuf) {
     std::fs::create_dir_all(dir).unwrap();
     let lib = find_library(None).expect("libfxbody.so next to the test executable");
     let fmu = dir.join("tip.fmu");
@@ -92,6 +105,7 @@ pub fn unpack_as(
     };
     let opts = PackOptions {
         fmi,
+        interface,
         ..PackOptions::default()
     };
     let p = pack_opts(&req, &opts, &lib, &fmu).unwrap();
@@ -141,6 +155,19 @@ fn packed_full(tag: &str, body: &str, node: i64, model: Option<&str>) -> Packed 
     packed_as_version(tag, body, node, model, FmiVersion::Fmi2)
 }
 
+/// The cantilever with its tip exposed, packed for FMI 2.0 Model Exchange
+/// (`--interface me`), under a temporary folder named after `tag`.
+pub fn packed_me(tag: &str) -> Packed {
+    packed_with(
+        tag,
+        "cantilever",
+        121,
+        None,
+        FmiVersion::Fmi2,
+        Interfaces::ModelExchange,
+    )
+}
+
 /// [`unpack_as`] under a temporary folder named after `tag`, with the resource URI.
 pub fn packed_as_version(
     tag: &str,
@@ -149,8 +176,20 @@ pub fn packed_as_version(
     model: Option<&str>,
     fmi: FmiVersion,
 ) -> Packed {
+    packed_with(tag, body, node, model, fmi, Interfaces::CoSimulation)
+}
+
+/// [`unpack_with`] under a temporary folder named after `tag`, with the resource URI.
+pub fn packed_with(
+    tag: &str,
+    body: &str,
+    node: i64,
+    model: Option<&str>,
+    fmi: FmiVersion,
+    interface: Interfaces,
+) -> Packed {
     let dir = std::env::temp_dir().join(format!("fxbody_robust_{tag}_{}", std::process::id()));
-    let (p, so) = unpack_as(&dir, body, node, model, fmi);
+    let (p, so) = unpack_with(&dir, body, node, model, fmi, interface);
     let uri = fxbody_host::file_uri(&dir.join("resources"));
     Packed { p, dir, uri, so }
 }
@@ -222,10 +261,68 @@ pub fn log_env(sink: &LogSink) -> Box<fxbody_host::LogEnv> {
 /// An instance created through `fmi2Instantiate` of this crate (not a loaded copy),
 /// with its own log. Freed on drop unless already freed.
 pub struct Slave {
-    pub c: fmi2Component,
-    pub log: Box<LogSink>,
+    /// The instance and its log, looked into alike for both FMI versions.
+    h: Handle,
     /// The logger's environment, at a fixed address for the instance's life.
     _env: Box<fxbody_host::LogEnv>,
+}
+
+/// An instance of this crate (of either FMI version) and its log: the white-box view the
+/// FMI 2.0 [`Slave`] and the FMI 3.0 [`super::fmu3::Slave3`] share (each derefs to it).
+pub struct Handle {
+    pub c: *mut c_void,
+    pub log: Box<LogSink>,
+}
+
+impl Handle {
+    /// Look inside: the FMI state the instance is in (white box, for the checks only).
+    pub fn fmi_state(&self) -> FmiState {
+        // SAFETY: `c` is a live instance of this crate, no call is running on it.
+        unsafe { &*self.c.cast::<Inner>() }.state
+    }
+
+    /// Look inside: force the FMI state (white box: to show that a refused call left the
+    /// model able to continue exactly as if it had not been made).
+    pub fn force_state(&self, s: FmiState) {
+        // SAFETY: as in `fmi_state`; exclusive use by this thread.
+        unsafe { &mut *self.c.cast::<Inner>() }.state = s;
+    }
+
+    /// Look inside: the serialised snapshot of the model's complete state (parameters,
+    /// inputs, times, solver), to compare before and after a refused call.
+    pub fn fingerprint(&self) -> Vec<u8> {
+        // SAFETY: as in `fmi_state`.
+        let inner = unsafe { &*self.c.cast::<Inner>() };
+        inner.simulation.snapshot(0).to_bytes("fingerprint")
+    }
+
+    /// Messages so far.
+    pub fn messages(&self) -> Vec<Msg> {
+        self.log.lock().unwrap().clone()
+    }
+
+    /// Text of the last error-status message (fmi2Error and fmi3Error are both 3).
+    pub fn last_error(&self) -> String {
+        self.messages()
+            .iter()
+            .rev()
+            .find(|m| m.status >= fmi2Error)
+            .map(|m| m.text.clone())
+            .unwrap_or_default()
+    }
+}
+
+impl std::ops::Deref for Slave {
+    type Target = Handle;
+    fn deref(&self) -> &Handle {
+        &self.h
+    }
+}
+
+impl std::ops::DerefMut for Slave {
+    fn deref_mut(&mut self) -> &mut Handle {
+        &mut self.h
+    }
 }
 
 impl Slave {
@@ -236,6 +333,22 @@ impl Slave {
 
     /// Instantiate with an explicit GUID and resource URI.
     pub fn try_with(guid: &str, uri: &str, name: &str) -> Result<Slave, Vec<Msg>> {
+        Slave::try_typed(guid, uri, name, fmi2CoSimulation)
+    }
+
+    /// A Model Exchange instance (fmi2Instantiate with fmi2ModelExchange) named `name`.
+    pub fn new_me(fx: &Packed, name: &str) -> Slave {
+        Slave::try_typed(&fx.p.guid, &fx.uri, name, fmi2ModelExchange)
+            .unwrap_or_else(|m| panic!("instantiate failed: {m:?}"))
+    }
+
+    /// Instantiate for `fmu_type` with an explicit GUID and resource URI.
+    pub fn try_typed(
+        guid: &str,
+        uri: &str,
+        name: &str,
+        fmu_type: fmi2Type,
+    ) -> Result<Slave, Vec<Msg>> {
         let log: Box<LogSink> = Box::new(Mutex::new(Vec::new()));
         let env = log_env(&log);
         let functions = fmi2CallbackFunctions {
@@ -255,7 +368,7 @@ impl Slave {
         let c = unsafe {
             x::fmi2Instantiate(
                 n.as_ptr(),
-                fmi2CoSimulation,
+                fmu_type,
                 g.as_ptr(),
                 r.as_ptr(),
                 &functions,
@@ -266,7 +379,10 @@ impl Slave {
         if c.is_null() {
             return Err(log.lock().unwrap().clone());
         }
-        Ok(Slave { c, log, _env: env })
+        Ok(Slave {
+            h: Handle { c, log },
+            _env: env,
+        })
     }
 
     pub fn new(fx: &Packed, name: &str) -> Slave {
@@ -361,42 +477,6 @@ impl Slave {
         };
         (st, s)
     }
-
-    /// Look inside: the FMI state the instance is in (white box, for the checks only).
-    pub fn fmi_state(&self) -> fxbody::fmi::state::FmiState {
-        // SAFETY: `c` is a live instance of this crate, no call is running on it.
-        unsafe { &*self.c.cast::<Inner>() }.state
-    }
-
-    /// Look inside: force the FMI state (white box: to show that a refused call left the
-    /// model able to continue exactly as if it had not been made).
-    pub fn force_state(&self, s: fxbody::fmi::state::FmiState) {
-        // SAFETY: as in `fmi_state`; exclusive use by this thread.
-        unsafe { &mut *self.c.cast::<Inner>() }.state = s;
-    }
-
-    /// Look inside: the serialised snapshot of the model's complete state (parameters,
-    /// inputs, times, solver), to compare before and after a refused call.
-    pub fn fingerprint(&self) -> Vec<u8> {
-        // SAFETY: as in `fmi_state`.
-        let inner = unsafe { &*self.c.cast::<Inner>() };
-        inner.simulation.snapshot(0).to_bytes("fingerprint")
-    }
-
-    /// Messages so far.
-    pub fn messages(&self) -> Vec<Msg> {
-        self.log.lock().unwrap().clone()
-    }
-
-    /// Text of the last error-status message.
-    pub fn last_error(&self) -> String {
-        self.messages()
-            .iter()
-            .rev()
-            .find(|m| m.status >= fmi2Error)
-            .map(|m| m.text.clone())
-            .unwrap_or_default()
-    }
 }
 
 impl Drop for Slave {
@@ -435,7 +515,7 @@ impl Stepper for Slave {
         Slave::do_step(self, t, h)
     }
     fn last_error(&self) -> String {
-        Slave::last_error(self)
+        self.h.last_error()
     }
 }
 

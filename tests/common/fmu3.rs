@@ -15,11 +15,9 @@ use fxbody::fmi::fmi3::exports as e;
 use fxbody::fmi::fmi3::fmu_state as fs;
 use fxbody::fmi::fmi3::types::*;
 use fxbody::fmi::fmi3::values as v;
-use fxbody::fmi::instance::Instance as Inner;
-use fxbody::fmi::state::FmiState;
 use fxbody::fmu::fmi_version::FmiVersion;
 
-use super::fmu::{LogSink, Msg, Packed, Stepper, packed_as_version};
+use super::fmu::{Handle, LogSink, Msg, Packed, Stepper, packed_as_version};
 
 /// The cantilever with its tip node 121 exposed, packed for FMI 3.0 and unpacked under a
 /// temporary folder named after `tag`.
@@ -62,8 +60,21 @@ pub extern "C" fn record3(
 /// An instance created through this crate's fmi3InstantiateCoSimulation, with its own
 /// log (loggingOn as asked). Freed on drop.
 pub struct Slave3 {
-    pub c: fmi3Instance,
-    pub log: Box<LogSink>,
+    /// The instance and its log, looked into as FMI 2.0's [`super::fmu::Slave`].
+    h: Handle,
+}
+
+impl std::ops::Deref for Slave3 {
+    type Target = Handle;
+    fn deref(&self) -> &Handle {
+        &self.h
+    }
+}
+
+impl std::ops::DerefMut for Slave3 {
+    fn deref_mut(&mut self) -> &mut Handle {
+        &mut self.h
+    }
 }
 
 impl Slave3 {
@@ -99,10 +110,40 @@ impl Slave3 {
                 None,
             )
         };
+        Slave3::made(c, log)
+    }
+
+    /// A Model Exchange instance (fmi3InstantiateModelExchange) of `fx`, logging on.
+    pub fn new_me(fx: &Packed, name: &str) -> Slave3 {
+        let log: Box<LogSink> = Box::new(Mutex::new(Vec::new()));
+        let (n, t, p) = (
+            CString::new(name).unwrap(),
+            CString::new(fx.p.guid.as_str()).unwrap(),
+            CString::new(fx.resource_path()).unwrap(),
+        );
+        // SAFETY: valid strings for the call; the sink outlives the instance.
+        let c = unsafe {
+            e::fmi3InstantiateModelExchange(
+                n.as_ptr(),
+                t.as_ptr(),
+                p.as_ptr(),
+                false,
+                true,
+                (&*log as *const LogSink).cast_mut().cast::<c_void>(),
+                Some(record3),
+            )
+        };
+        Slave3::made(c, log).unwrap_or_else(|m| panic!("instantiate failed: {m:?}"))
+    }
+
+    /// The slave of instance `c` (NULL: the messages logged instead).
+    fn made(c: fmi3Instance, log: Box<LogSink>) -> Result<Slave3, Vec<Msg>> {
         if c.is_null() {
             return Err(log.lock().unwrap().clone());
         }
-        Ok(Slave3 { c, log })
+        Ok(Slave3 {
+            h: Handle { c, log },
+        })
     }
 
     /// Instantiate `fx` (packed for FMI 3.0) with `name`, logging on.
@@ -195,30 +236,6 @@ impl Slave3 {
             unsafe { fs::fmi3DeserializeFMUState(self.c, bytes.as_ptr(), bytes.len(), &mut s) };
         (st, s)
     }
-
-    /// Look inside: the FMI state (white box).
-    pub fn fmi_state(&self) -> FmiState {
-        // SAFETY: `c` is a live instance of this crate, no call is running on it.
-        unsafe { &*self.c.cast::<Inner>() }.state
-    }
-
-    /// Look inside: force the FMI state (white box).
-    pub fn force_state(&self, s: FmiState) {
-        // SAFETY: as in `fmi_state`; exclusive use by this thread.
-        unsafe { &mut *self.c.cast::<Inner>() }.state = s;
-    }
-
-    /// Look inside: the serialised snapshot of the model's complete state.
-    pub fn fingerprint(&self) -> Vec<u8> {
-        // SAFETY: as in `fmi_state`.
-        let inner = unsafe { &*self.c.cast::<Inner>() };
-        inner.simulation.snapshot(0).to_bytes("fingerprint")
-    }
-
-    /// Messages so far.
-    pub fn messages(&self) -> Vec<Msg> {
-        self.log.lock().unwrap().clone()
-    }
 }
 
 impl Stepper for Slave3 {
@@ -246,12 +263,7 @@ impl Stepper for Slave3 {
     }
 
     fn last_error(&self) -> String {
-        self.messages()
-            .iter()
-            .rev()
-            .find(|m| m.status >= fmi3Error)
-            .map(|m| m.text.clone())
-            .unwrap_or_default()
+        self.h.last_error()
     }
 }
 

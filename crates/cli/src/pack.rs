@@ -1,12 +1,14 @@
 //! `fxbody pack FILE -o OUT.fmu [--coords DECK|CSV] [--nodes ID,...] [--name NAME]
 //! [--units NAME] [--lib PATH] [--nodes-file FILE] [--fmax HZ|auto] [--step H] [--stop T]
 //! [--method NAME] [--header FILE.h] [--binary PLATFORM=PATH]... [--embed-source]
-//! [--fmi 2|3]`: a flexible body as an FMI 2.0 (default) or FMI 3.0 co-simulation FMU,
-//! with its OSP model description beside it.
+//! [--fmi 2|3] [--interface cs|me|both]`: a flexible body as an FMI 2.0 (default) or
+//! FMI 3.0 FMU for co-simulation (default), Model Exchange or both, with its OSP model
+//! description beside it.
 
 use std::path::PathBuf;
 
 use fxbody::fmu::fmi_version::FmiVersion;
+use fxbody::fmu::interface::Interfaces;
 use fxbody::fmu::options::method_by_name;
 use fxbody::fmu::pack::{
     Fmax, PackError, PackOptions, PackRequest, find_library, pack_reporting, refuse_overwrite,
@@ -85,6 +87,18 @@ pub struct PackArgs {
     /// binaries/x86_64-linux/). The library inside serves both.
     #[arg(long, default_value = "2", value_parser = fmi_arg)]
     pub fmi: FmiVersion,
+    /// FMI interfaces the FMU declares: cs (co-simulation, the default: the body steps
+    /// itself), me (Model Exchange: the master's integrator integrates the body's
+    /// continuous states; blocked bodies) or both.
+    #[arg(long, default_value = "cs", value_parser = interface_arg)]
+    pub interface: Interfaces,
+}
+
+/// clap value parser of `--interface cs|me|both`.
+fn interface_arg(s: &str) -> Result<Interfaces, String> {
+    Interfaces::parse(s).ok_or_else(|| {
+        format!("expected cs (co-simulation), me (Model Exchange) or both, found '{s}'")
+    })
 }
 
 /// clap value parser of `--fmi 2|3`.
@@ -144,6 +158,7 @@ pub fn run(args: &PackArgs) -> Result<(), String> {
         method,
         binaries: args.binary.clone(),
         fmi: args.fmi,
+        interface: args.interface,
     };
     let header_prefix = match &args.header {
         Some(h) => {

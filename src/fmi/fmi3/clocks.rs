@@ -8,10 +8,11 @@
 #![allow(non_snake_case, clippy::missing_safety_doc)]
 
 use super::types::*;
-use super::{V3, state};
+use super::{V3, refuse, state};
 use crate::fmi::FmiError;
 use crate::fmi::instance::*;
 use crate::fmi::values::no_variables;
+use crate::fmi::version::Interface;
 
 /// A function over an array of clocks: fine for none, refused naming the first.
 ///
@@ -223,19 +224,19 @@ pub unsafe extern "C" fn fmi3SetShiftFraction(
 /// `instance` is an instance.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi3EvaluateDiscreteStates(instance: fmi3Instance) -> fmi3Status {
-    enter_as(
+    refuse(
         instance,
-        V3,
         "fmi3EvaluateDiscreteStates",
         state::DISCRETE_STATES,
-        |_| Err(FmiError::NotProvided(NO_EVENT_MODE)),
+        NO_EVENT_MODE,
     )
 }
 
-/// Not provided (no clocks, no event mode): logs why, returns fmi3Error.
+/// An event iteration of a Model Exchange instance: no discrete states, no events, so
+/// nothing to update and no time event. A co-simulation instance has no event mode.
 ///
 /// # Safety
-/// `instance` is an instance.
+/// `instance` is an instance; the output arguments are NULL or writable.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi3UpdateDiscreteStates(
     instance: fmi3Instance,
@@ -246,21 +247,33 @@ pub unsafe extern "C" fn fmi3UpdateDiscreteStates(
     nextEventTimeDefined: *mut fmi3Boolean,
     nextEventTime: *mut fmi3Float64,
 ) -> fmi3Status {
-    // Not needed: refused.
-    let _ = (
-        discreteStatesNeedUpdate,
-        terminateSimulation,
-        nominalsOfContinuousStatesChanged,
-        valuesOfContinuousStatesChanged,
-        nextEventTimeDefined,
-        nextEventTime,
-    );
     enter_as(
         instance,
         V3,
         "fmi3UpdateDiscreteStates",
         state::DISCRETE_STATES,
-        |_| Err(FmiError::NotProvided(NO_EVENT_MODE)),
+        |inst| {
+            if inst.interface != Interface::ModelExchange {
+                return Err(FmiError::NotProvided(NO_EVENT_MODE));
+            }
+            for p in [
+                discreteStatesNeedUpdate,
+                terminateSimulation,
+                nominalsOfContinuousStatesChanged,
+                valuesOfContinuousStatesChanged,
+                nextEventTimeDefined,
+            ] {
+                if !p.is_null() {
+                    // SAFETY: non-null and writable (FMI contract).
+                    unsafe { *p = false };
+                }
+            }
+            if !nextEventTime.is_null() {
+                // SAFETY: as above.
+                unsafe { *nextEventTime = 0.0 };
+            }
+            Ok(crate::fmi::types::fmi2OK)
+        },
     )
 }
 
@@ -275,15 +288,10 @@ pub unsafe extern "C" fn fmi3ActivateModelPartition(
     activationTime: fmi3Float64,
 ) -> fmi3Status {
     let _ = (clockReference, activationTime); // not needed: refused
-    enter_as(
+    refuse(
         instance,
-        V3,
         "fmi3ActivateModelPartition",
         state::ACTIVATE_MODEL_PARTITION,
-        |_| {
-            Err(FmiError::NotProvided(
-                "this FMU provides no Scheduled Execution",
-            ))
-        },
+        "this FMU provides no Scheduled Execution",
     )
 }

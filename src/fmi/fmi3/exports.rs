@@ -10,9 +10,9 @@
 use std::ffi::c_char;
 use std::path::PathBuf;
 
-use super::V3;
 use super::state;
 use super::types::*;
+use super::{V3, refuse};
 use crate::fmi::FmiError;
 use crate::fmi::exports::{
     do_step, enter_initialization, exit_initialization, reset, set_debug_logging,
@@ -21,6 +21,7 @@ use crate::fmi::instance::*;
 use crate::fmi::instantiate::{free_instance, instantiate};
 use crate::fmi::state::FmiState;
 use crate::fmi::uri::resource_path;
+use crate::fmi::version::Interface;
 
 /// "3.0".
 #[unsafe(no_mangle)]
@@ -124,14 +125,27 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
                      intermediate update (providesIntermediateUpdate=\"false\")",
                 ));
             }
-            let token = token.ok_or(FmiError::Null("instantiationToken"))?;
-            let path = path.ok_or(FmiError::NoResourcePath)?;
-            Ok((token, resource_dir(&path)?))
+            token_and_dir(Interface::CoSimulation, token, path)
         },
     )
 }
 
-/// Not provided (no `<ModelExchange>` element): NULL with a logged reason.
+/// The interface, the instantiation token and the resources folder of an FMI 3.0
+/// instantiation's arguments.
+fn token_and_dir(
+    interface: Interface,
+    token: Option<String>,
+    path: Option<String>,
+) -> Result<(Interface, String, PathBuf), FmiError> {
+    let token = token.ok_or(FmiError::Null("instantiationToken"))?;
+    let path = path.ok_or(FmiError::NoResourcePath)?;
+    Ok((interface, token, resource_dir(&path)?))
+}
+
+/// Create a Model Exchange instance (an FMU packed with `--interface me` or `both`):
+/// the arguments copied, the body and scene read from the resources folder, the
+/// instantiation token checked. NULL (with a logged reason, if loggingOn) on any
+/// failure, an FMU packed for co-simulation only among them.
 ///
 /// # Safety
 /// String arguments are NULL or NUL-terminated.
@@ -145,17 +159,22 @@ pub unsafe extern "C" fn fmi3InstantiateModelExchange(
     instanceEnvironment: fmi3InstanceEnvironment,
     logMessage: fmi3LogMessageCallback,
 ) -> fmi3Instance {
-    let _ = (instantiationToken, resourcePath, visible); // not needed: refused
-    // SAFETY: the caller's contract, passed on.
-    unsafe {
-        not_provided(
-            "fmi3InstantiateModelExchange",
-            instanceName,
-            (instanceEnvironment, logMessage, loggingOn),
-            "this FMU provides co-simulation only (its model description has no \
-             <ModelExchange> element): use fmi3InstantiateCoSimulation",
+    let _ = visible; // not needed by this FMU
+    // SAFETY: NUL-terminated or NULL (FMI contract); copied now.
+    let (name, token, path) = unsafe {
+        (
+            text_arg(instanceName),
+            text_arg(instantiationToken),
+            text_arg(resourcePath),
         )
-    }
+    };
+    instantiate(
+        "fmi3InstantiateModelExchange",
+        V3,
+        name,
+        |n| Log::new3(instanceEnvironment, logMessage, n, loggingOn),
+        || token_and_dir(Interface::ModelExchange, token, path),
+    )
 }
 
 /// An instantiation function of an interface this FMU does not provide: NULL after
@@ -272,10 +291,11 @@ pub unsafe extern "C" fn fmi3ExitInitializationMode(instance: fmi3Instance) -> f
     )
 }
 
-/// Not provided (hasEventMode="false"): logs why, returns fmi3Error.
+/// Into Event Mode: Model Exchange instances (from Continuous-Time Mode); a
+/// co-simulation instance has no event mode (hasEventMode="false") and is refused.
 ///
 /// # Safety
-/// `instance` is an instance from fmi3InstantiateCoSimulation.
+/// `instance` is an instance.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi3EnterEventMode(instance: fmi3Instance) -> fmi3Status {
     enter_as(
@@ -283,10 +303,13 @@ pub unsafe extern "C" fn fmi3EnterEventMode(instance: fmi3Instance) -> fmi3Statu
         V3,
         "fmi3EnterEventMode",
         state::ENTER_EVENT_MODE,
-        |_| {
-            Err(FmiError::NotProvided(
-                "this FMU has no event mode (hasEventMode=\"false\")",
-            ))
+        |inst| match inst.interface {
+            Interface::ModelExchange => {
+                crate::fmi::model_exchange::enter_mode(inst, FmiState::EventMode)
+            }
+            Interface::CoSimulation => Err(FmiError::NotProvided(
+                "this FMU has no event mode in co-simulation (hasEventMode=\"false\")",
+            )),
         },
     )
 }
@@ -298,16 +321,11 @@ pub unsafe extern "C" fn fmi3EnterEventMode(instance: fmi3Instance) -> fmi3Statu
 /// `instance` is an instance from fmi3InstantiateCoSimulation.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi3EnterStepMode(instance: fmi3Instance) -> fmi3Status {
-    enter_as(
+    refuse(
         instance,
-        V3,
         "fmi3EnterStepMode",
         state::ENTER_STEP_MODE,
-        |_| {
-            Err(FmiError::NotProvided(
-                "this FMU has no event mode (hasEventMode=\"false\")",
-            ))
-        },
+        "this FMU has no event mode (hasEventMode=\"false\")",
     )
 }
 
@@ -317,16 +335,11 @@ pub unsafe extern "C" fn fmi3EnterStepMode(instance: fmi3Instance) -> fmi3Status
 /// `instance` is an instance from fmi3InstantiateCoSimulation.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi3EnterConfigurationMode(instance: fmi3Instance) -> fmi3Status {
-    enter_as(
+    refuse(
         instance,
-        V3,
         "fmi3EnterConfigurationMode",
         state::ENTER_CONFIGURATION_MODE,
-        |_| {
-            Err(FmiError::NotProvided(
-                "this FMU has no structural parameters",
-            ))
-        },
+        "this FMU has no structural parameters",
     )
 }
 
@@ -336,16 +349,11 @@ pub unsafe extern "C" fn fmi3EnterConfigurationMode(instance: fmi3Instance) -> f
 /// `instance` is an instance from fmi3InstantiateCoSimulation.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi3ExitConfigurationMode(instance: fmi3Instance) -> fmi3Status {
-    enter_as(
+    refuse(
         instance,
-        V3,
         "fmi3ExitConfigurationMode",
         state::EXIT_CONFIGURATION_MODE,
-        |_| {
-            Err(FmiError::NotProvided(
-                "this FMU has no structural parameters",
-            ))
-        },
+        "this FMU has no structural parameters",
     )
 }
 

@@ -29,6 +29,19 @@ use super::version::FmiVersion;
 /// The version every export here passes to the gate.
 const V3: FmiVersion = FmiVersion::Fmi3;
 
+/// An FMI 3.0 function this FMU does not provide: judged by `mask` (a call in a state
+/// the standard forbids is refused as such), then refused for `why`, logged.
+fn refuse(
+    instance: types::fmi3Instance,
+    func: &str,
+    mask: u16,
+    why: &'static str,
+) -> types::fmi3Status {
+    super::instance::enter_as(instance, V3, func, mask, |_| {
+        Err(FmiError::NotProvided(why))
+    })
+}
+
 /// Refuse `nValues` other than the number of value references: every variable of this
 /// FMU is a scalar.
 fn scalars(n_refs: usize, n_values: usize) -> Result<(), FmiError> {

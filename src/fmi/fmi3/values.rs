@@ -11,7 +11,7 @@
 
 use super::state;
 use super::types::*;
-use super::{V3, names_time, scalars};
+use super::{V3, names_time, refuse, scalars};
 use crate::fmi::FmiError;
 use crate::fmi::instance::*;
 use crate::fmi::values::{
@@ -198,10 +198,13 @@ pub unsafe extern "C" fn fmi3GetOutputDerivatives(
     )
 }
 
-/// Not provided (providesDirectionalDerivatives="false"): logs why, returns fmi3Error.
+/// The directional derivative of state derivatives with respect to states and load
+/// inputs, exact (Model Exchange instances; co-simulation declares
+/// providesDirectionalDerivatives="false" and is refused). Every variable is a scalar:
+/// nSeed is nKnowns and nSensitivity nUnknowns.
 ///
 /// # Safety
-/// `instance` is an instance.
+/// `instance` is an instance; the arrays hold their lengths' elements.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn fmi3GetDirectionalDerivative(
     instance: fmi3Instance,
@@ -214,26 +217,24 @@ pub unsafe extern "C" fn fmi3GetDirectionalDerivative(
     sensitivity: *mut fmi3Float64,
     nSensitivity: usize,
 ) -> fmi3Status {
-    // Not needed: refused.
-    let _ = (
-        unknowns,
-        nUnknowns,
-        knowns,
-        nKnowns,
-        seed,
-        nSeed,
-        sensitivity,
-        nSensitivity,
-    );
     enter_as(
         instance,
         V3,
         "fmi3GetDirectionalDerivative",
         state::GET_DERIVATIVES,
-        |_| {
-            Err(FmiError::NotProvided(
-                "not provided by this FMU (providesDirectionalDerivatives=\"false\")",
-            ))
+        |inst| {
+            scalars(nKnowns, nSeed)?;
+            scalars(nUnknowns, nSensitivity)?;
+            // SAFETY: the caller's contract, passed on.
+            unsafe {
+                crate::fmi::model_exchange::directional_derivative(
+                    inst,
+                    (unknowns, nUnknowns),
+                    (knowns, nKnowns),
+                    seed,
+                    sensitivity,
+                )
+            }
         },
     )
 }
@@ -265,16 +266,11 @@ pub unsafe extern "C" fn fmi3GetAdjointDerivative(
         sensitivity,
         nSensitivity,
     );
-    enter_as(
+    refuse(
         instance,
-        V3,
         "fmi3GetAdjointDerivative",
         state::GET_DERIVATIVES,
-        |_| {
-            Err(FmiError::NotProvided(
-                "not provided by this FMU (providesAdjointDerivatives=\"false\")",
-            ))
-        },
+        "not provided by this FMU (providesAdjointDerivatives=\"false\")",
     )
 }
 
@@ -294,12 +290,11 @@ pub unsafe extern "C" fn fmi3GetNumberOfVariableDependencies(
     nDependencies: *mut usize,
 ) -> fmi3Status {
     let _ = (valueReference, nDependencies); // not needed: refused
-    enter_as(
+    refuse(
         instance,
-        V3,
         "fmi3GetNumberOfVariableDependencies",
         state::DEPENDENCIES,
-        |_| Err(FmiError::NotProvided(NO_ELEMENT_DEPENDENCIES)),
+        NO_ELEMENT_DEPENDENCIES,
     )
 }
 
@@ -326,11 +321,10 @@ pub unsafe extern "C" fn fmi3GetVariableDependencies(
         dependencyKinds,
         nDependencies,
     );
-    enter_as(
+    refuse(
         instance,
-        V3,
         "fmi3GetVariableDependencies",
         state::DEPENDENCIES,
-        |_| Err(FmiError::NotProvided(NO_ELEMENT_DEPENDENCIES)),
+        NO_ELEMENT_DEPENDENCIES,
     )
 }

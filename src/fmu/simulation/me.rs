@@ -4,12 +4,44 @@
 //! set here are read by [`Simulation::get_reals`], the co-simulation output code, so the
 //! residual correction's feed-through of the loads is the same. Nothing allocates once
 //! the solver is built.
+//!
+//! An instance that serves Model Exchange ([`Simulation::serve_model_exchange`])
+//! integrates the body's own equations whatever the `method` parameter says: for a
+//! blocked body those of the exact method, the modal equations themselves.
 
 use super::{Simulation, SimulationError};
+use crate::fmu::vars::Kind;
 use crate::solver::continuous::Continuous;
 use crate::solver::{Method, SolverError};
 
 impl Simulation {
+    /// Serve Model Exchange: from now on the solver is the body's own first-order form
+    /// (the exact method's equations for a blocked body), whatever `method` says.
+    pub fn serve_model_exchange(&mut self) {
+        if !self.model_exchange {
+            self.model_exchange = true;
+            self.dirty = true;
+        }
+    }
+
+    /// Whether this model serves Model Exchange.
+    pub fn serves_model_exchange(&self) -> bool {
+        self.model_exchange
+    }
+
+    /// The method the solver is built with: `method`, except under Model Exchange,
+    /// where the body's own equations are integrated: a blocked body's as the exact
+    /// method states them, a free body's as the split method's first-order form (the
+    /// other methods' are discretisations of the same equations, not first-order systems
+    /// of the body alone).
+    pub(super) fn solver_method(&self) -> Method {
+        match (self.model_exchange, self.table.free) {
+            (false, _) => self.method,
+            (true, false) => Method::Exact,
+            (true, true) => Method::Split,
+        }
+    }
+
     /// The method's first-order form, the solver built and the loads passed on first.
     fn continuous(&mut self) -> Result<&mut dyn Continuous, SimulationError> {
         self.ensure_solver()?;
@@ -22,7 +54,7 @@ impl Simulation {
             self.guard.forget();
             self.loads_dirty = false;
         }
-        s.continuous().ok_or_else(|| {
+        let c = s.continuous().ok_or_else(|| {
             SimulationError::Solver(SolverError::Unsupported {
                 method,
                 why: format!(
@@ -34,12 +66,31 @@ impl Simulation {
                     Method::Split as i32
                 ),
             })
-        })
+        })?;
+        let n = c.state_count();
+        if self.xs.len() != n {
+            // Once, when the form is first asked for: the reads below then allocate
+            // nothing.
+            self.xs.resize(n, 0.0);
+            self.dxs.resize(n, 0.0);
+        }
+        Ok(c)
     }
 
-    /// The number of continuous states (builds the solver).
+    /// The number of continuous states (builds the solver). Under Model Exchange it is
+    /// the number the description declares, checked.
     pub fn state_count(&mut self) -> Result<usize, SimulationError> {
-        Ok(self.continuous()?.state_count())
+        let declared = self.table.state_count();
+        let n = self.continuous()?.state_count();
+        if declared > 0 && n != declared {
+            return Err(SolverError::BadLength {
+                what: "continuous states of the description",
+                expected: n,
+                found: declared,
+            }
+            .into());
+        }
+        Ok(n)
     }
 
     /// Set the time (fmi2SetTime).
@@ -93,6 +144,28 @@ impl Simulation {
         Ok(())
     }
 
+    /// Whether `vrs` names a continuous state or derivative variable.
+    pub(super) fn asks_continuous(&self, vrs: &[u32]) -> bool {
+        vrs.iter().any(|&r| {
+            matches!(
+                self.table.get(r).map(|v| v.kind),
+                Some(Kind::State(_) | Kind::Derivative(_))
+            )
+        })
+    }
+
+    /// The states and derivatives into the buffers the state and derivative variables
+    /// are read from.
+    pub(super) fn fill_continuous(&mut self) -> Result<(), SimulationError> {
+        // Built, loads passed, buffers sized.
+        self.continuous()?;
+        if let Some(c) = self.solver.as_mut().and_then(|s| s.continuous()) {
+            c.states(&mut self.xs);
+            c.derivatives(&mut self.dxs);
+        }
+        Ok(())
+    }
+
     /// `A = dx'/dx` (`n x n`) and `B = dx'/du` (`n x 6m`, loads in value-reference
     /// order), column major; `false` where the method has no exact Jacobian.
     pub fn jacobian(&mut self, a: &mut [f64], b: &mut [f64]) -> Result<bool, SimulationError> {
@@ -115,5 +188,78 @@ fn check_len(found: usize, expected: usize) -> Result<(), SimulationError> {
             found,
         }
         .into())
+    }
+}
+
+impl Simulation {
+    /// The directional derivative `out = J seed` of the `unknowns` (state derivative or
+    /// state variables) with respect to the `knowns` (state variables and load inputs),
+    /// from the exact Jacobian (fmi2GetDirectionalDerivative). Outputs as unknowns are
+    /// refused: their derivatives are not provided yet.
+    pub fn directional_derivative(
+        &mut self,
+        unknowns: &[u32],
+        knowns: &[u32],
+        seed: &[f64],
+        out: &mut [f64],
+    ) -> Result<(), SimulationError> {
+        check_len(seed.len(), knowns.len())?;
+        check_len(out.len(), unknowns.len())?;
+        let n = self.state_count()?;
+        let m = self.loads.len();
+        // Which column of [A B] each known is.
+        let mut cols = Vec::with_capacity(knowns.len());
+        for &k in knowns {
+            let var = self.var(k)?;
+            cols.push(match var.kind {
+                Kind::State(j) => j,
+                Kind::Load { node, comp } => n + 6 * node + comp,
+                _ => {
+                    return Err(SimulationError::NotAKnown {
+                        name: var.name.clone(),
+                    });
+                }
+            });
+        }
+        let mut rows = Vec::with_capacity(unknowns.len());
+        for &u in unknowns {
+            let var = self.var(u)?;
+            rows.push(match var.kind {
+                Kind::Derivative(i) => Ok(i),
+                Kind::State(i) => Err(i),
+                _ => {
+                    return Err(SimulationError::NotAnUnknown {
+                        name: var.name.clone(),
+                    });
+                }
+            });
+        }
+        let (mut a, mut b) = (vec![0.0; n * n], vec![0.0; n * m]);
+        if !self.jacobian(&mut a, &mut b)? {
+            return Err(SimulationError::Solver(SolverError::Unsupported {
+                method: self.solver_method(),
+                why: "no exact Jacobian".into(),
+            }));
+        }
+        for (o, row) in out.iter_mut().zip(&rows) {
+            *o = cols
+                .iter()
+                .zip(seed)
+                .map(|(&c, &s)| match *row {
+                    // d der(x_i) / d x_c or d u_c: A (n x n) then B, column major.
+                    Ok(i) if c < n => a[c * n + i] * s,
+                    Ok(i) => b[(c - n) * n + i] * s,
+                    // d x_i / d x_c: the identity; no state depends on an input.
+                    Err(i) => {
+                        if c == i {
+                            s
+                        } else {
+                            0.0
+                        }
+                    }
+                })
+                .sum();
+        }
+        Ok(())
     }
 }

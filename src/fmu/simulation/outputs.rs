@@ -21,6 +21,11 @@ impl Simulation {
             self.guard.forget();
             self.loads_dirty = false;
         }
+        // Model Exchange's state and derivative variables: from the first-order form,
+        // once per call.
+        if self.table.state_count() > 0 && self.asks_continuous(vrs) {
+            self.fill_continuous()?;
+        }
         let Some(s) = self.solver.as_ref() else {
             return Err(SimulationError::NoSolver);
         };
@@ -88,6 +93,8 @@ impl Simulation {
                 Kind::FrameP(k) => s.frame().map_or(f64::NAN, |f| f.p[k]),
                 Kind::FrameVelocity(c) => s.frame_rates().map_or(f64::NAN, |f| f.velocity[c]),
                 Kind::FrameAngularVelocity(c) => s.frame_rates().map_or(f64::NAN, |f| f.omega[c]),
+                Kind::State(i) => self.xs[i],
+                Kind::Derivative(i) => self.dxs[i],
             };
         }
         Ok(())

@@ -336,7 +336,7 @@ fn bad_arguments_are_refused_and_change_nothing() {
         m.unchanged(&fx, &twin, &var.name);
         count("wrong type");
         let says = match var.causality {
-            Causality::Input => continue,
+            Causality::Input | Causality::Local => continue,
             Causality::Output => "is an output",
             Causality::Parameter => "fixed parameter",
         };

@@ -10,6 +10,7 @@ mod fmi3_runs;
 mod header;
 mod host_abi;
 mod me;
+mod me_exports;
 mod method_param;
 mod model_description;
 mod nonfinite;
