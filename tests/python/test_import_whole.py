@@ -355,7 +355,8 @@ def test_craig_bampton_error_estimates_at_octave_cutoffs(bracket, tmp_path):
     """`--reduction craig-bampton` on the blocked bracket (spider B the interface) at
     octave cut-offs of the fixed-interface spectrum (fmax = 1.001 f1, 2 f1, 4 f1, f1 its
     first frequency, from scipy's eigsh on K_ii, M_ii): the report's estimated frequency
-    error of every mode is within 15% of the true error, f_body / f_full - 1, the full
+    error of every mode is within 6% of the true error (the issue asks 15%), and not above
+    it, the true error being f_body / f_full - 1, the full
     model's frequencies from scipy's shift-invert eigsh on the whole K and M. Modes whose
     true error is below 1e-8 (the body's frequencies equal the Craig-Bampton model's to
     1e-8, so below that the true error is round-off) are left out and counted."""
@@ -386,8 +387,14 @@ def test_craig_bampton_error_estimates_at_octave_cutoffs(bracket, tmp_path):
                 continue
             checked += 1
             print(f"fmax {octave:g} f1, mode {mode + 1}: true {t:.3e}, estimate {e:.3e}")
-            assert abs(e / t - 1) < 0.15, (octave, mode + 1, e, t)
-    print(f"Craig-Bampton error estimates: {checked} within 15%, {skipped} below 1e-8 left out")
+            # The issue's promise is 15%. The shipped enlargement (3 block steps) measures
+            # 3.8% at worst; 2 steps give 9.4% and 1 step 31%, so the band is held at 6%,
+            # where a shallower enlargement fails. Never above the true error (beyond the
+            # body's 1e-8 agreement with the Craig-Bampton model): the enlarged basis's
+            # Ritz values are upper bounds of the model's eigenvalues.
+            assert abs(e / t - 1) < 0.06, (octave, mode + 1, e, t)
+            assert e <= t + 2e-8, (octave, mode + 1, e, t)
+    print(f"Craig-Bampton error estimates: {checked} within 6%, {skipped} below 1e-8 left out")
     assert checked >= 10, checked
 
 
