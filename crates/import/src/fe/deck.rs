@@ -419,6 +419,12 @@ mod tests {
         let bad = write(&dir, "bad3.inp", "*NSET, NSET=A\n1, NOPE\n");
         let e = read_deck(&bad).unwrap_err().to_string();
         assert!(e.contains("bad3.inp:2: 'NOPE' is neither"), "{e}");
+        let bad = write(&dir, "bad4.inp", "*ELEMENT, TYPE=S3\n1, 1, 2, 3, 4\n");
+        let e = read_deck(&bad).unwrap_err().to_string();
+        assert!(
+            e.contains("bad4.inp:2: element 1 of type S3 has more than 3"),
+            "{e}"
+        );
         let bad = write(&dir, "loop.inp", "*INCLUDE, INPUT=loop.inp\n");
         let e = read_deck(&bad).unwrap_err().to_string();
         assert!(e.contains("includes itself"), "{e}");
