@@ -90,20 +90,7 @@ def test_blocked_statics_and_frequencies_through_the_fmu(bracket, tmp_path):
     model = report["whole_model"]["model_hz"]
     assert np.allclose(below, model, rtol=1e-8, atol=0), (below, model)
     st = ref["static"]
-    node = 900003
-    s = Slave(fmu, extract(str(fmu), str(tmp_path / "blocked_x")), name="static").start(
-        reals={"damping.ratio": 1.0}, ints={"method": EXACT})
-    names = [f"node_{node}.{c}" for c in ("x", "y", "z", "rx", "ry", "rz")]
-    x0 = s.get(*names)
-    s.set(**{f"node_{node}__f{c}": v for c, v in zip("xyz", st["force"])})
-    s.set(**{f"node_{node}__m{c}": v for c, v in zip("xyz", st["moment"])})
-    # Critically damped modes: the slowest (467 Hz) is within e^-58 (1 + 58) of its
-    # static value after 20 ms.
-    h = 1e-4
-    for k in range(200):
-        s.s.doStep(k * h, h)
-    u = s.get(*names) - np.concatenate([x0[:3], np.zeros(3)])
-    s.free()
+    u = fmu_static(fmu, tmp_path / "blocked_x", 900003, st["force"], st["moment"])
     for part, ours in (("ref", u[:3]), ("rot", u[3:])):
         theirs = np.array([printed(t)[0] for t in st[part]])
         half = np.array([printed(t)[1] for t in st[part]])
@@ -112,6 +99,26 @@ def test_blocked_statics_and_frequencies_through_the_fmu(bracket, tmp_path):
         print(f"blocked static {part}: FMU {ours}, ccx {theirs}, rel {rel:.1e}")
         assert np.all(err <= np.maximum(1e-6 * np.abs(theirs).max(), half)), (ours, theirs)
     print(f"blocked: {len(below)} modes below {FMAX} Hz equal ccx's to {worst_f:.1e}")
+
+
+def fmu_static(fmu, unzip, node, force, moment):
+    """The displacement and rotation of `node` that the packed FMU settles on under
+    `force` and `moment` held there (exact modal stepping, every mode critically damped,
+    damping.ratio = 1): the body's static solution."""
+    s = Slave(fmu, extract(str(fmu), str(unzip)), name="static").start(
+        reals={"damping.ratio": 1.0}, ints={"method": EXACT})
+    names = [f"node_{node}.{c}" for c in ("x", "y", "z", "rx", "ry", "rz")]
+    x0 = s.get(*names)
+    s.set(**{f"node_{node}__f{c}": v for c, v in zip("xyz", force)})
+    s.set(**{f"node_{node}__m{c}": v for c, v in zip("xyz", moment)})
+    # Critically damped modes: the slowest (467 Hz) is within e^-58 (1 + 58) of its
+    # static value after 20 ms.
+    h = 1e-4
+    for k in range(200):
+        s.s.doStep(k * h, h)
+    u = s.get(*names) - np.concatenate([x0[:3], np.zeros(3)])
+    s.free()
+    return u
 
 
 def triplets(bracket, case, matrix):
@@ -132,15 +139,18 @@ def full_matrix(bracket, case, matrix, digits=None):
     return (upper + upper.T - sp.diags(upper.diagonal())).tocsc()
 
 
-def rigid_mass_properties(bracket):
-    """Mass, centre of mass and inertia about it from R^T M R, M read from free.mas (upper
-    triangle, 1-based equations), R the rigid motions over free.dof with the spider
-    reading (ROT nodes' directions 1-3 are rotations)."""
-    dofs = [line.split(".") for line in (bracket / "free.dof").read_text().split()]
+def rigid_mass_properties(bracket, folder=None, case="free", rot=None):
+    """Mass, centre of mass and inertia about it from R^T M R, M read from case.mas in
+    `folder` (default: the bracket's; upper triangle, 1-based equations), R the rigid
+    motions over case.dof with the spider reading (the ROT nodes `rot`, default the
+    bracket's two, have directions 1-3 that are rotations)."""
+    folder = folder or bracket
+    dofs = [line.split(".") for line in (folder / f"{case}.dof").read_text().split()]
     ids = np.array([int(a) for a, _ in dofs])
     comp = np.array([int(b) for _, b in dofs])
     info = json.loads((bracket / "done.json").read_text())
-    rot = {s["rot"] for s in info["spiders"].values()}
+    if rot is None:
+        rot = {s["rot"] for s in info["spiders"].values()}
     xyz = {}
     for line in (bracket / "nodes.csv").read_text().split():
         f = line.split(",")
@@ -156,7 +166,7 @@ def rigid_mass_properties(bracket):
         r[i, c] = 1.0
         for k in range(3):
             r[i, 3 + k] = np.cross(np.eye(3)[k], p)[c]
-    mr = r.T @ (full_matrix(bracket, "free", "mas") @ r)
+    mr = r.T @ (full_matrix(folder, case, "mas") @ r)
     m = mr[0, 0]
     s = mr[:3, 3:] / m
     c = np.array([s[1, 2], s[2, 0], s[0, 1]])
@@ -311,47 +321,6 @@ def test_readme_whole_model_walkthrough(tmp_path):
     assert abs(vx / rigid - 1) < 0.2, (vx, rigid)
 
 
-def test_rigid_spider_built_from_a_node_set(bracket, tmp_path):
-    """The free bracket without spider B's *RIGID BODY (its REF and ROT nodes gone too),
-    run through ccx for its matrices; `--spider HOLEB:rigid` builds the spider on the
-    hole's node set. The six rigid motions stay in K's null space, and the frequencies
-    below fmax equal those of ccx's own *RIGID BODY model (the free.inp import, and ccx's
-    printed *FREQUENCY) to 1e-7."""
-    lines, skip = [], False
-    for line in (bracket / "mesh.inp").read_text().splitlines():
-        upper = line.upper()
-        if line.startswith("*"):
-            skip = upper.startswith("*NSET, NSET=SPIDERS")
-            if skip or (upper.startswith("*RIGID BODY") and "HOLEB" in upper):
-                continue
-        elif skip or line.split(",")[0].strip() in ("900003", "900004"):
-            continue
-        lines.append(line)
-    (tmp_path / "mesh.inp").write_text("\n".join(lines) + "\n")
-    (tmp_path / "nob.inp").write_text("*INCLUDE, INPUT=mesh.inp\n*STEP\n"
-                                      "*FREQUENCY, SOLVER=MATRIXSTORAGE\n*END STEP\n")
-    r = subprocess.run(["ccx", "-i", "nob"], cwd=tmp_path, capture_output=True, text=True)
-    assert r.returncode == 0 and "*ERROR" not in r.stdout, r.stdout[-2000:]
-    run("import", tmp_path / "nob.inp", "--spider", "HOLEB:rigid", "--fmax", FMAX, "-o",
-        tmp_path / "nob.fxb", "--report", tmp_path / "nob.json")
-    built = json.loads((tmp_path / "nob.json").read_text())
-    run("import", bracket / "free.inp", "--fmax", FMAX, "-o", tmp_path / "free.fxb",
-        "--report", tmp_path / "free.json")
-    spider = json.loads((tmp_path / "free.json").read_text())
-    assert built["free"] and built["nodes"] == 2
-    residual = built["whole_model"]["rigid_residual"]
-    assert residual < 1e-13, residual
-    a, b = (np.array(x["whole_model"]["model_hz"]) for x in (built, spider))
-    assert len(a) == len(b) == 14
-    diff = np.abs(a / b - 1).max()
-    ref = json.loads((bracket / "reference.json").read_text())
-    worst = assert_ccx_frequencies([f for f in built["frequencies_hz"] if f < FMAX],
-                                   ref["free_hz"][6:])
-    print(f"built rigid spider: |K r|/(|K||r|) {residual:.1e}, frequencies vs ccx's "
-          f"*RIGID BODY model {diff:.1e} (vs its printed ones {worst:.1e})")
-    assert diff < 1e-7, diff
-
-
 def test_craig_bampton_reduction_equals_scipy_craig_bampton(bracket, tmp_path):
     """`--reduction craig-bampton` on the blocked bracket (spider B the interface, fmax
     20 kHz): every frequency of the body equals that of the Craig-Bampton model built
@@ -386,7 +355,8 @@ def test_craig_bampton_error_estimates_at_octave_cutoffs(bracket, tmp_path):
     """`--reduction craig-bampton` on the blocked bracket (spider B the interface) at
     octave cut-offs of the fixed-interface spectrum (fmax = 1.001 f1, 2 f1, 4 f1, f1 its
     first frequency, from scipy's eigsh on K_ii, M_ii): the report's estimated frequency
-    error of every mode is within 15% of the true error, f_body / f_full - 1, the full
+    error of every mode is within 6% of the true error (the issue asks 15%), and not above
+    it, the true error being f_body / f_full - 1, the full
     model's frequencies from scipy's shift-invert eigsh on the whole K and M. Modes whose
     true error is below 1e-8 (the body's frequencies equal the Craig-Bampton model's to
     1e-8, so below that the true error is round-off) are left out and counted."""
@@ -417,8 +387,14 @@ def test_craig_bampton_error_estimates_at_octave_cutoffs(bracket, tmp_path):
                 continue
             checked += 1
             print(f"fmax {octave:g} f1, mode {mode + 1}: true {t:.3e}, estimate {e:.3e}")
-            assert abs(e / t - 1) < 0.15, (octave, mode + 1, e, t)
-    print(f"Craig-Bampton error estimates: {checked} within 15%, {skipped} below 1e-8 left out")
+            # The issue's promise is 15%. The shipped enlargement (3 block steps) measures
+            # 3.8% at worst; 2 steps give 9.4% and 1 step 31%, so the band is held at 6%,
+            # where a shallower enlargement fails. Never above the true error (beyond the
+            # body's 1e-8 agreement with the Craig-Bampton model): the enlarged basis's
+            # Ritz values are upper bounds of the model's eigenvalues.
+            assert abs(e / t - 1) < 0.06, (octave, mode + 1, e, t)
+            assert e <= t + 2e-8, (octave, mode + 1, e, t)
+    print(f"Craig-Bampton error estimates: {checked} within 6%, {skipped} below 1e-8 left out")
     assert checked >= 10, checked
 
 
@@ -476,8 +452,6 @@ def test_whole_model_errors_name_the_cause(bracket, tmp_path):
     assert "is not in K's null space" in e, e
     e = refused(free, "--fmax", FMAX, "--spider", "HOLEC:rigid")
     assert "no node set HOLEC" in e and "HOLEA" in e, e
-    e = refused(free, "--fmax", FMAX, "--spider", "HOLEB:distributing")
-    assert "not built yet" in e, e
     e = refused(free, "--fmax", FMAX, "--reduction", "guyan")
     assert "expected modes or craig-bampton" in e, e
     # A single three-DOF node cannot hold a free body's rotations.

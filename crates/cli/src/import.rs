@@ -83,9 +83,11 @@ pub struct ImportArgs {
     /// Check and report only; write no body.
     #[arg(long)]
     pub check: bool,
-    /// Build a spider on a node set of the deck, NSET:rigid (RBE2-like: a new six-DOF node
-    /// at the set's centroid, the set's nodes tied rigidly to it), as a connection node;
-    /// whole models only. May be repeated.
+    /// Build a spider on a node set of the deck, as a connection node: NSET:rigid
+    /// (RBE2-like: a new six-DOF node at the set's centroid, the set's nodes tied rigidly
+    /// to it) or NSET:distributing (RBE3-like: a new six-DOF node at the set's
+    /// area-weighted centre whose motion is the weighted mean of the set's, adding no
+    /// stiffness); whole models only. May be repeated.
     #[arg(long)]
     pub spider: Vec<String>,
     /// Whole models: `modes` keeps the model's own modes below --fmax plus static modes

@@ -34,7 +34,7 @@ use std::fmt;
 pub use abaqus::read_abaqus;
 pub use calculix::read_calculix;
 pub use coords::read_model_coords;
-pub use deck::{Deck, RigidBody, read_deck};
+pub use deck::{Deck, FACE_TYPES, RigidBody, read_deck};
 pub use dmig::read_dmig;
 pub use error::{Cols, FeError, Loc};
 pub use fields::nastran_real;

@@ -19,6 +19,8 @@
 //! exact.
 
 pub mod cb;
+pub mod distributing;
+pub mod faces;
 pub mod interface;
 pub mod spider;
 
@@ -161,7 +163,7 @@ fn connections(
     deck: &Deck,
     deck_name: &str,
     nodes: Option<&[i64]>,
-    built: &[i64],
+    built: &[spider::BuiltSpider],
 ) -> Result<Vec<Connection>, ImportError> {
     let eq: HashMap<Dof, usize> = model
         .dofs
@@ -200,10 +202,9 @@ fn connections(
                         eqs.push((c, e));
                     }
                 }
-                if built.contains(&id) {
-                    format!("node {id}, a rigid spider built at the centroid of its set")
-                } else {
-                    format!("node {id}")
+                match built.iter().find(|b| b.id == id) {
+                    Some(b) => b.what.clone(),
+                    None => format!("node {id}"),
                 }
             }
         };
@@ -230,7 +231,7 @@ fn connections(
             .iter()
             .filter(|s| (1..=3).any(|c| eq.contains_key(&Dof::new(s.reference, c))))
             .map(|s| s.reference)
-            .chain(built.iter().copied())
+            .chain(built.iter().map(|b| b.id))
             .collect(),
     };
     if ids.is_empty() {
@@ -277,7 +278,7 @@ fn build_on(
     deck_name: &str,
     opts: &Options,
     whole: &WholeOptions,
-    built: &[i64],
+    built: &[spider::BuiltSpider],
     stage: &mut dyn FnMut(&str),
 ) -> Result<Imported, ImportError> {
     let n = model.dofs.len();

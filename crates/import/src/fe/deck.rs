@@ -1,8 +1,9 @@
 //! A CalculiX (Abaqus-style) input deck, read for what a whole-model import needs beside
-//! the matrices: node coordinates (`*NODE`), node sets (`*NSET`, `*NODE, NSET=`) and the
-//! spiders (`*RIGID BODY, NSET=S, REF NODE=r, ROT NODE=q`), following `*INCLUDE,
-//! INPUT=file` (relative to the including file). Every other keyword and its data lines
-//! are passed over.
+//! the matrices: node coordinates (`*NODE`), node sets (`*NSET`, `*NODE, NSET=`), the
+//! spiders (`*RIGID BODY, NSET=S, REF NODE=r, ROT NODE=q`) and the connectivity of the
+//! element types whose faces a distributing spider weighs (`*ELEMENT, TYPE=` one of
+//! [`FACE_TYPES`]), following `*INCLUDE, INPUT=file` (relative to the including file).
+//! Every other keyword and its data lines are passed over.
 //!
 //! Refused, naming the file and line: a keyword line this reader needs but cannot read
 //! (a `*RIGID BODY` without REF NODE or ROT NODE, or with ELSET instead of NSET), a node
@@ -38,13 +39,44 @@ pub struct Deck {
     pub nsets: HashMap<String, Vec<i64>>,
     /// The spiders, in deck order.
     pub spiders: Vec<RigidBody>,
+    /// Elements of the types in [`FACE_TYPES`]: the type (upper case) and its nodes.
+    pub elements: Vec<(String, Vec<i64>)>,
 }
+
+/// Element types whose connectivity is kept, with their node counts: the solids whose
+/// faces are triangles or quadrilaterals, and the shells (one face each).
+pub const FACE_TYPES: [(&str, usize); 14] = [
+    ("C3D4", 4),
+    ("C3D10", 10),
+    ("C3D10T", 10),
+    ("C3D8", 8),
+    ("C3D8R", 8),
+    ("C3D8I", 8),
+    ("C3D20", 20),
+    ("C3D20R", 20),
+    ("S3", 3),
+    ("S4", 4),
+    ("S4R", 4),
+    ("S6", 6),
+    ("S8", 8),
+    ("S8R", 8),
+];
 
 /// What the data lines under the current keyword are.
 enum Block {
     Skip,
     Node(Option<String>),
-    Nset { name: String, generate: bool },
+    Nset {
+        name: String,
+        generate: bool,
+    },
+    /// Element lines of a kept type: its name, node count, and the cells read so far
+    /// (an element may continue on the next line).
+    Element {
+        kind: String,
+        nodes: usize,
+        cells: Vec<i64>,
+    },
 }
 
 /// Read `path` and the files it includes.
@@ -132,11 +164,21 @@ fn read_into(path: &Path, deck: &mut Deck, stack: &mut Vec<PathBuf>) -> Result<(
                     };
                 }
                 "*RIGID BODY" => deck.spiders.push(rigid_body(&opts, &file, ln)?),
+                "*ELEMENT" => {
+                    let kind = option(&opts, "TYPE").unwrap_or("").to_ascii_uppercase();
+                    if let Some(&(_, nodes)) = FACE_TYPES.iter().find(|(t, _)| *t == kind) {
+                        block = Block::Element {
+                            kind,
+                            nodes,
+                            cells: Vec::new(),
+                        };
+                    }
+                }
                 _ => {}
             }
             continue;
         }
-        match &block {
+        match &mut block {
             Block::Skip => {}
             Block::Node(set) => {
                 let (id, x) = node_line(line, &file, ln)?;
@@ -148,6 +190,37 @@ fn read_into(path: &Path, deck: &mut Deck, stack: &mut Vec<PathBuf>) -> Result<(
             Block::Nset { name, generate } => {
                 let ids = set_line(deck, line, *generate, &file, ln)?;
                 add(deck, name, &ids);
+            }
+            Block::Element { kind, nodes, cells } => {
+                for c in line.split(',').map(str::trim).filter(|c| !c.is_empty()) {
+                    match parse_int(c.as_bytes()) {
+                        Some(v) if v > 0 => cells.push(v),
+                        _ => {
+                            return Err(FeError::syntax(
+                                &file,
+                                ln,
+                                None,
+                                c.as_bytes(),
+                                "an *ELEMENT line",
+                                "id, then the element's node IDs (positive integers)",
+                            ));
+                        }
+                    }
+                }
+                if cells.len() > *nodes + 1 {
+                    return Err(FeError::invalid(
+                        &file,
+                        ln,
+                        format!(
+                            "element {} of type {kind} has more than {nodes} nodes",
+                            cells[0]
+                        ),
+                    ));
+                }
+                if cells.len() == *nodes + 1 {
+                    deck.elements.push((kind.clone(), cells[1..].to_vec()));
+                    cells.clear();
+                }
             }
         }
     }
@@ -309,7 +382,8 @@ mod tests {
             &dir,
             "mesh.inp",
             "** a comment\n*NODE, NSET=ALL\n1, 0., 0., 0.\n2, 1.5, 0, 0\n3, 0, 2e1\n\
-             *ELEMENT, TYPE=C3D4\n1, 1, 2, 3, 3\n*NSET, NSET=Hole\n1, 2,\n\
+             *ELEMENT, TYPE=C3D4\n1, 1, 2, 3, 3\n*ELEMENT, TYPE=S8R\n2, 1, 2, 3,\n4, 5, 6, 7, 8\n\
+             *ELEMENT, TYPE=B31\n3, 1, 2\n*NSET, NSET=Hole\n1, 2,\n\
              *NSET, NSET=MORE, GENERATE\n10, 14, 2\n*NSET, NSET=BOTH\nHOLE, 3\n\
              *RIGID BODY, NSET=HOLE, REF NODE=100, ROT NODE = 101\n",
         );
@@ -330,7 +404,11 @@ mod tests {
             (s.nset.as_str(), s.reference, s.rotation),
             ("HOLE", 100, 101)
         );
-        assert!(s.at.ends_with("mesh.inp:14"), "{}", s.at);
+        assert!(s.at.ends_with("mesh.inp:19"), "{}", s.at);
+        // Element types with faces are kept (one continued over two lines), beams not.
+        assert_eq!(deck.elements.len(), 2);
+        assert_eq!(deck.elements[0], ("C3D4".to_string(), vec![1, 2, 3, 3]));
+        assert_eq!(deck.elements[1].1, (1..=8).collect::<Vec<i64>>());
 
         let bad = write(&dir, "bad.inp", "*RIGID BODY, NSET=HOLE, REF NODE=4\n");
         let e = read_deck(&bad).unwrap_err().to_string();
@@ -341,6 +419,12 @@ mod tests {
         let bad = write(&dir, "bad3.inp", "*NSET, NSET=A\n1, NOPE\n");
         let e = read_deck(&bad).unwrap_err().to_string();
         assert!(e.contains("bad3.inp:2: 'NOPE' is neither"), "{e}");
+        let bad = write(&dir, "bad4.inp", "*ELEMENT, TYPE=S3\n1, 1, 2, 3, 4\n");
+        let e = read_deck(&bad).unwrap_err().to_string();
+        assert!(
+            e.contains("bad4.inp:2: element 1 of type S3 has more than 3"),
+            "{e}"
+        );
         let bad = write(&dir, "loop.inp", "*INCLUDE, INPUT=loop.inp\n");
         let e = read_deck(&bad).unwrap_err().to_string();
         assert!(e.contains("includes itself"), "{e}");

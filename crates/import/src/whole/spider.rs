@@ -10,9 +10,9 @@
 //! of the whole stays a rigid motion, so a free model's K keeps the six rigid motions in
 //! its null space (checked by the import like any model's).
 //!
-//! A distributing spider (RBE3-like, `NSET:distributing`) is refused for now: its
-//! reference node's motion is a weighted mean of the set's, which needs a connection
-//! given as a combination of DOFs rather than DOFs.
+//! A distributing spider (RBE3-like, `NSET:distributing`) is built by
+//! [`super::distributing`]: its node's motion is a weighted mean of the set's, and the set
+//! stays free to deform.
 
 use std::collections::HashMap;
 
@@ -53,26 +53,29 @@ impl SpiderSpec {
     }
 }
 
+/// A spider built from a node set: its new node and how it was made (for the report).
+#[derive(Debug, Clone)]
+pub struct BuiltSpider {
+    /// The new six-DOF node.
+    pub id: i64,
+    /// What it is, in words.
+    pub what: String,
+}
+
 /// Build every spider of `specs` into the model: the model over the remaining DOFs and
 /// each spider's new node (numbered after the deck's largest node), and the deck with
-/// those nodes' coordinates (the sets' centroids). Returns the new node IDs too.
+/// those nodes' coordinates (the sets' centroids, area-weighted for a distributing one).
+/// Returns the new nodes too.
 pub fn build_spiders(
     model: &WholeModel,
     deck: &Deck,
     deck_name: &str,
     specs: &[SpiderSpec],
-) -> Result<(WholeModel, Deck, Vec<i64>), ImportError> {
+) -> Result<(WholeModel, Deck, Vec<BuiltSpider>), ImportError> {
     let mut model = model.clone();
     let mut deck = deck.clone();
     let mut ids = Vec::new();
     for spec in specs {
-        if !spec.rigid {
-            return Err(ImportError::BadSpider(format!(
-                "{}:distributing: distributing (RBE3-like) spiders are not built yet; \
-                 use {}:rigid, or a *RIGID BODY in the deck",
-                spec.nset, spec.nset
-            )));
-        }
         let set = deck.nsets.get(&spec.nset).ok_or_else(|| {
             let mut known: Vec<&String> = deck.nsets.keys().collect();
             known.sort();
@@ -87,10 +90,26 @@ pub fn build_spiders(
             ))
         })?;
         let id = deck.nodes.keys().next_back().copied().unwrap_or(0) + 1;
-        let (m2, centre) = rigid(&model, set, &deck, deck_name, id)?;
+        let (m2, centre, what) = if spec.rigid {
+            let (m2, centre) = rigid(&model, set, &deck, deck_name, id)?;
+            let what = format!(
+                "node {id}, a rigid spider on set {} built at its centroid",
+                spec.nset
+            );
+            (m2, centre, what)
+        } else {
+            let (m2, b) =
+                super::distributing::distributing(&model, &spec.nset, set, &deck, deck_name, id)?;
+            let what = format!(
+                "node {id}, a distributing spider on set {} ({} faces, {} weighted nodes) \
+                 built at its area-weighted centre",
+                spec.nset, b.faces, b.weighted
+            );
+            (m2, b.centre, what)
+        };
         model = m2;
         deck.nodes.insert(id, centre);
-        ids.push(id);
+        ids.push(BuiltSpider { id, what });
     }
     Ok((model, deck, ids))
 }
@@ -187,7 +206,7 @@ fn rigid(
 
 /// `T^T A T` for `T` given row by row (`map[i]`: the new columns of old DOF i and their
 /// coefficients), on A's stored upper triangle (see the module text).
-fn transform(
+pub(crate) fn transform(
     a: &SymCsc,
     map: &[Vec<(usize, f64)>],
     n: usize,
