@@ -9,7 +9,8 @@ use crate::common::root;
 use fxbody::body::Body;
 use fxbody::scene::Scene;
 use fxbody::solver::free::{
-    DRAG_WARN, TRUSS_DRAGGED, TRUSS_GAIN_EXPLICIT, TRUSS_GAIN_SPLIT, TRUSS_IMPLICIT_400, TRUSS_SPLIT_300,
+    DRAG_WARN, TRUSS_DRAGGED, TRUSS_GAIN_EXPLICIT, TRUSS_GAIN_SPLIT, TRUSS_IMPLICIT_400,
+    TRUSS_SPLIT_300,
 };
 use fxbody::solver::{Method, Options, SolverWarning, build};
 use nalgebra::{DMatrix, Vector3};
@@ -96,7 +97,9 @@ fn explicit_and_split_warn_at_load_when_modes_drag_rigid_motion() {
         else {
             panic!("no drag warning on the truss from {method:?}");
         };
-        println!("truss, {method:?}: dragged fraction {fraction:.6e} (independent {want:.6e})\n{w}");
+        println!(
+            "truss, {method:?}: dragged fraction {fraction:.6e} (independent {want:.6e})\n{w}"
+        );
         assert_eq!(split, method == Method::Split);
         assert!(fraction > DRAG_WARN);
         assert!(
@@ -106,7 +109,12 @@ fn explicit_and_split_warn_at_load_when_modes_drag_rigid_motion() {
         assert!((TRUSS_DRAGGED / fraction - 1.0).abs() < 1e-3);
         let text = w.to_string();
         let name = format!("the {} method", if split { "split" } else { "explicit" });
-        for part in [name.as_str(), "energy per radian", "Use the implicit method", &gain] {
+        for part in [
+            name.as_str(),
+            "energy per radian",
+            "Use the implicit method",
+            &gain,
+        ] {
             assert!(text.contains(part), "message lacks {part:?}: {text}");
         }
     }
@@ -116,7 +124,11 @@ fn explicit_and_split_warn_at_load_when_modes_drag_rigid_motion() {
     println!("{path}: dragged fraction {figure:.3e}");
     assert!(figure < 1e-3 * DRAG_WARN);
     for method in [Method::Explicit, Method::Split] {
-        assert_eq!(first_warning(path, method), None, "{path} warned by {method:?}");
+        assert_eq!(
+            first_warning(path, method),
+            None,
+            "{path} warned by {method:?}"
+        );
     }
 }
 
