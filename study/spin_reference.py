@@ -44,8 +44,8 @@ consistent.
 Measured (spin at 0.018 of the first frequency about P0 (1, -2, 3), 1 ms steps): the
 free-free beam keeps its energy to 2.0e-14 and its angular momentum to 3.1e-14 over
 400 rad (5.2 iterations per step, 20 min), its attitude 2.1e-3 rad off the rigid Euler
-path of its undeformed inertia; the truss keeps them to 1.2e-10 and 7e-15 over its first
-80 rad (about 6 min per 40 rad on a loaded 2-core machine). `--check`: on the truss the
+path of its undeformed inertia; the truss keeps them to 5.9e-10 and 3.6e-14 over 400 rad
+(11.4 iterations per step, 63 min on a loaded 2-core machine). `--check`: on the truss the
 withdrawn first-order T equals the exact T to first order in alpha (6e-10 of T); on the
 free-free beam it is off at first order (2.5e-5 of T at 1 mm of deflection, 2.6e-7 at
 0.01 mm), 20 to 40 times less without the rotational rows' `P_dot Phi_r alpha`
