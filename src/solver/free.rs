@@ -106,10 +106,13 @@ pub use implicit::Implicit;
 pub(crate) use rotation::rotation_vector;
 pub use split::Split;
 pub use validity::{
-    FRAME_RETRY_FRACTION, MAX_FRAME_ERROR, MAX_HALVINGS, SPIN_STEP, SPIN_WARN_RATIO,
+    DRAG_WARN, FRAME_RETRY_FRACTION, MAX_FRAME_ERROR, MAX_HALVINGS, SPIN_STEP, SPIN_WARN_RATIO,
+    TRUSS_DRAGGED, TRUSS_GAIN_EXPLICIT, TRUSS_GAIN_SPLIT, TRUSS_IMPLICIT_400, TRUSS_SPLIT_300,
+    drag_consequence, three_digits,
 };
 pub(crate) use validity::{
-    SINGULAR_RATIO, frame_error, frame_invalid, overflow, singular_error, spin_warning,
+    SINGULAR_RATIO, drag_warning, frame_error, frame_invalid, overflow, singular_error,
+    spin_warning,
 };
 
 /// The key of a factorisation that belongs to no step: NaN never compares equal, so

@@ -210,12 +210,16 @@ int main(int argc, char **argv) {
         double f = sin(300.0 * t) + (k % 50 == 0 ? 0.5 : 0.0), rate = 300.0 * cos(300.0 * t);
         EXPECT(set_real(c, &vin, 1, &f) == fmi2OK);
         EXPECT(in_derivs(c, &vin, 1, &one, &rate) == fmi2OK);
-        EXPECT(do_step(c, t, h, 1) == fmi2OK);
+        /* The first step may warn once (the explicit method on modes that drag rigid
+         * motion, e.g. the truss); every later one is fmi2OK. */
+        fmi2Status st = do_step(c, t, h, 1);
+        EXPECT(st == fmi2OK || (k == 0 && st == fmi2Warning));
         EXPECT(get_real(c, &vout, 1, &y) == fmi2OK);
         fmi2Integer order = 2;
         EXPECT(out_derivs(c, &vout, 1, &order, &v) == fmi2OK && isfinite(v));
         EXPECT(set_real(q, &vin, 1, &f) == fmi2OK);
-        EXPECT(do_step(q, t, h, 1) == fmi2OK);
+        st = do_step(q, t, h, 1);
+        EXPECT(st == fmi2OK || (k == 0 && st == fmi2Warning));
         if (k == steps / 2) {
             EXPECT(get_state(c, &s1) == fmi2OK);
             size_t m = 0;

@@ -49,7 +49,10 @@ use std::cell::RefCell;
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 
 use super::lu::Lu;
-use super::{FreeScene, Loads, MAX_FRAME_ERROR, SPIN_STEP, frame_omega, point_vec, spin_warning};
+use super::{
+    FreeScene, Loads, MAX_FRAME_ERROR, SPIN_STEP, drag_warning, frame_omega, point_vec,
+    spin_warning,
+};
 use crate::scene::Scene;
 use crate::solver::nodes::check_state;
 use crate::solver::rollback::{Restorable, Rollback};
@@ -84,6 +87,9 @@ pub struct Explicit {
     rollback: Rollback,
     /// The spin-rate warning was raised (once per solver).
     warned: bool,
+    /// The load-time check's warning (modes that drag rigid motion: this scheme solves
+    /// the Radioss equations, FORMULATION.md section 3), given by the first step.
+    drag_warning: Option<SolverWarning>,
     /// Largest rotation per internal step (`SPIN_STEP` unless changed).
     spin_step: f64,
     /// Largest `|P^T P - I|` a step may leave (`MAX_FRAME_ERROR` unless changed).
@@ -145,7 +151,11 @@ impl Explicit {
             a_valid: false,
             loads_at: vec![0.0; 6 * m.nexp],
         };
+        // A body whose modes drag rigid motion is warned about at load (returned by the
+        // first step): this scheme stays Radioss's (FORMULATION.md section 3).
+        let drag_warning = drag_warning(&m, false);
         let mut s = Explicit {
+            drag_warning,
             p: m.p0,
             loads: Loads::new(6 * m.nexp),
             m,
@@ -430,6 +440,9 @@ impl Solver for Explicit {
             }
             s.run_step(h)
         })?;
+        if let Some(w) = self.drag_warning.take() {
+            return Ok(Some(w));
+        }
         Ok(spin_warning(
             &self.m,
             self.frame_angular_velocity().norm(),

@@ -26,13 +26,13 @@
 //! second order. A communication step is cut into equal internal steps turning at most
 //! [`ROT_STEP`] rad each.
 
-mod rigid;
+pub(super) mod rigid;
 
 use nalgebra::{DMatrix, DVector, Matrix3, Matrix6, SMatrix, Vector3, Vector6};
 
 use super::{
-    FreeScene, Loads, MAX_FRAME_ERROR, SINGULAR_RATIO, frame_error, frame_invalid, point_offset,
-    singular_error, spin_warning,
+    FreeScene, Loads, MAX_FRAME_ERROR, SINGULAR_RATIO, drag_warning, frame_error, frame_invalid,
+    point_offset, singular_error, spin_warning,
 };
 use crate::num::num;
 use crate::scene::Scene;
@@ -87,6 +87,10 @@ pub struct Split {
     /// build).
     pub(super) rollback: Rollback,
     warned: bool,
+    /// The load-time check's warning (modes that drag rigid motion: this method
+    /// integrates the Radioss equations, FORMULATION.md section 3), given by the first
+    /// step.
+    drag_warning: Option<SolverWarning>,
 }
 
 /// What depends on the body only.
@@ -228,6 +232,7 @@ impl Split {
             next_slot: 0,
             rollback: Rollback::new(Method::Split, 0),
             warned: false,
+            drag_warning: drag_warning(&m, true),
             m,
         };
         s.rollback = Rollback::new(Method::Split, s.state_len());
@@ -694,6 +699,9 @@ impl Solver for Split {
             }
             s.run_step(h)
         })?;
+        if let Some(w) = self.drag_warning.take() {
+            return Ok(Some(w));
+        }
         let spin = self.spin_rate();
         Ok(spin_warning(&self.m, spin, &mut self.warned))
     }

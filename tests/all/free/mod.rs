@@ -1,6 +1,7 @@
 //! The free-body methods (`solver::free`): the explicit reference scheme, the implicit
 //! method, and where we differ from Radioss.
 
+mod drag_warning;
 mod explicit;
 mod fe_reference;
 mod frame_rates;

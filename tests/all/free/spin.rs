@@ -92,10 +92,12 @@ fn load(path: &str) -> Body {
 /// Not here: the truss tower (fixtures/truss.fxb). Its rigid part is exact too (a
 /// bar's mass is the same in every direction: figures at round-off), but its local
 /// modes come from a support and drag rigid motion (`M_C^T G != 0`), and the
-/// formulation leaves out the `d(M_C)/dt v_L` terms (FORMULATION.md section 3): spun
-/// at 0.018 of its first frequency it gains energy and blows up after about 300 rad with
-/// the split and explicit methods (the implicit method damps it). A limit of the
-/// equations, not of the body file.
+/// formulation leaves out the `P_dot Phi_L alpha` part of the node velocities
+/// (FORMULATION.md section 3): spun at 0.018 of its first frequency it gains energy and
+/// blows up after about 400 rad with the split method (40 rad explicit; the implicit
+/// method damps it), which both warn at load (`free::drag_warning`). A limit of the
+/// equations, not of the body file: the exact equations conserve both (section 3,
+/// study/spin_reference.py), but need FE-mass invariants the `.fxb` does not carry.
 #[test]
 fn exact_free_beam_keeps_its_angular_momentum_over_a_million_steps() {
     let body = load("fixtures/freefree.fxb");
