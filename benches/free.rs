@@ -94,8 +94,8 @@ fn main() {
             continue;
         }
         let body = Arc::new(load_body(&path).expect("fixture reads"));
-        let fmax = body.frequencies_hz.last().copied().unwrap_or(0.0);
-        let beta = body.damping.map_or(0.0, |d| d.beta);
+        let fmax = body.frequencies_hz().last().copied().unwrap_or(0.0);
+        let beta = body.damping().map_or(0.0, |d| d.beta);
         let dt_fx = stable_step(fmax, beta);
         let n = body.nnodes();
         let big = n > 1000;

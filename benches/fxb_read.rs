@@ -211,7 +211,7 @@ fn run(path: &Path) {
     let _ = std::fs::remove_dir_all(&out);
     println!(
         "  {} nodes, {} modes; identical bits fast vs exact: yes{}",
-        body.node_ids.len(),
+        body.node_ids().len(),
         body.nl(),
         scene.map_or(String::new(), |n| format!("; pack exposes nodes {n:?}"))
     );

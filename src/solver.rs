@@ -435,7 +435,7 @@ fn build_method(
         let inner = build_method(&bare, method, opts)?;
         return Ok(Box::new(residual::Residual::new(scene, inner)?));
     }
-    if !scene.body.iblo {
+    if !scene.body.is_blocked() {
         return match method {
             Method::Explicit => Ok(Box::new(free::Explicit::new(scene, opts)?)),
             Method::Implicit => Ok(Box::new(free::Implicit::new(scene, opts)?)),

@@ -116,7 +116,7 @@ pub fn make_scene(
     opts: &SceneOptions,
     body_name: &str,
 ) -> Result<Scene, SceneError> {
-    if opts.method == Some(crate::solver::Method::Exact) && !body.iblo {
+    if opts.method == Some(crate::solver::Method::Exact) && !body.is_blocked() {
         return Err(SceneError::ExactOnFree {
             body: body_name.to_string(),
         });

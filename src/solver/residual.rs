@@ -61,7 +61,7 @@ impl Residual {
         Ok(Residual {
             inner,
             r,
-            p_fixed: scene.body.iblo.then_some(scene.body.p0),
+            p_fixed: scene.body.is_blocked().then_some(scene.body.p0),
             held: Loads::new(6 * m),
             checkpoint_held: Loads::new(6 * m),
             mark: Mark::default(),

@@ -29,6 +29,10 @@ pub fn blocked_body(
             k_full.push(k_l[r * nl + c]);
         }
     }
+    // The stored Freq is the true top frequency, so that the validated constructor
+    // takes the body (a Freq far below the modes is refused as corrupt).
+    let k = nalgebra::DMatrix::from_row_slice(nl, nl, k_l);
+    let freqs = fxbody::body::eigenfrequencies_hz(&k, &nalgebra::DVector::from_column_slice(m_l));
     let file = FxbFile {
         nbmod: nl,
         nbstat: nl,
@@ -39,7 +43,7 @@ pub fn blocked_body(
         ifile: false,
         node_ids: (1..=nnodes as i64).collect(),
         p0,
-        freq: 1.0,
+        freq: freqs.last().copied().filter(|&f| f > 0.0).unwrap_or(1.0),
         damping,
         rigid_modes: Vec::new(),
         local_modes: phi.to_vec(),
@@ -50,7 +54,7 @@ pub fn blocked_body(
         m_c: Vec::new(),
         k_c: Vec::new(),
     };
-    Body::assemble(&file)
+    Body::from_fxb(&file, "hand-built body").unwrap_or_else(|e| panic!("{e}"))
 }
 
 pub const IDENTITY: [f64; 9] = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0];

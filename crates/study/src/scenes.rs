@@ -30,8 +30,8 @@ impl Variant {
     /// ones only, the others on both.
     pub fn offered(&self, scene: &Scene) -> bool {
         match self.method {
-            Method::Exact => scene.body.iblo,
-            Method::Split => !scene.body.iblo,
+            Method::Exact => scene.body.is_blocked(),
+            Method::Split => !scene.body.is_blocked(),
             _ => true,
         }
     }

@@ -202,7 +202,7 @@ fn a_state_below_the_bound_gives_finite_outputs_whatever_the_parameters() {
     ] {
         for zeta in [0.0, 1e150, 1e300, f64::MAX] {
             for g in [0.0, 1e300] {
-                if g != 0.0 && scene.body.iblo {
+                if g != 0.0 && scene.body.is_blocked() {
                     continue;
                 }
                 let mut scene = scene.clone();

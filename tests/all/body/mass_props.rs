@@ -207,10 +207,10 @@ fn info_inertia_is_the_dynamics_inertia() {
         let err = (p.inertia - dyn_i).amax() / dyn_i.amax();
         println!("{name}: info's inertia vs the dynamics' {err:.1e}");
         if name.contains("naive") {
-            assert!(!body.warnings.is_empty());
+            assert!(!body.warnings().is_empty());
             assert!(err > 1e-4, "{name}: {err:.2e}");
         } else {
-            assert!(body.warnings.is_empty(), "{name}: {:?}", body.warnings);
+            assert!(body.warnings().is_empty(), "{name}: {:?}", body.warnings());
             assert!(
                 err < 1e-9,
                 "{name}: info {} vs dynamics {dyn_i}: {err:.2e}",

@@ -61,7 +61,7 @@ fn free_free_beam_shows_participation_without_static_deflection_or_zero_masses()
     // Independent of the report's code: the local modes' generalised eigenproblem solved
     // here with nalgebra's symmetric eigen-solver (m_L is diagonal), phi^2/omega^2 summed.
     let ml = nalgebra::DMatrix::from_fn(body.nl(), body.nl(), |i, j| {
-        body.k_l[(i, j)] / (body.m_l[i] * body.m_l[j]).sqrt()
+        body.k_l()[(i, j)] / (body.m_l()[i] * body.m_l()[j]).sqrt()
     });
     let eig = ml.symmetric_eigen();
     let mut terms: Vec<(f64, f64)> = (0..body.nl())
@@ -70,9 +70,9 @@ fn free_free_beam_shows_participation_without_static_deflection_or_zero_masses()
             let psi: f64 = (0..body.nl())
                 .map(|j| {
                     let y: f64 = (0..3)
-                        .map(|b| body.p0[(1, b)] * body.phi_l[(6 * k + b, j)])
+                        .map(|b| body.p0()[(1, b)] * body.phi_l()[(6 * k + b, j)])
                         .sum();
-                    y * eig.eigenvectors[(j, i)] / body.m_l[j].sqrt()
+                    y * eig.eigenvectors[(j, i)] / body.m_l()[j].sqrt()
                 })
                 .sum();
             (w2, psi * psi / w2)

@@ -51,12 +51,12 @@ fn share_equals_the_truncated_static_deflection() {
         let g = DMatrix::from_fn(6, b.nl(), |r, j| {
             let (half, k) = (r / 3, r % 3);
             (0..3)
-                .map(|a| b.p0[(k, a)] * b.phi_l[(6 * tip + 3 * half + a, j)])
+                .map(|a| b.p0()[(k, a)] * b.phi_l()[(6 * tip + 3 * half + a, j)])
                 .sum::<f64>()
         });
         let mut f = DVector::zeros(6);
         f[c] = 1.0;
-        let q = b.k_l.clone().lu().solve(&(g.transpose() * &f)).unwrap();
+        let q = b.k_l().clone().lu().solve(&(g.transpose() * &f)).unwrap();
         (g * q)[c]
     };
     for c in 0..6 {

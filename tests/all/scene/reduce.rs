@@ -71,9 +71,9 @@ fn reduced_files_read_back_with_the_retained_frequencies() {
         );
         let mut worst: f64 = 0.0;
         for ((got, own), want) in body
-            .frequencies_hz
+            .frequencies_hz()
             .iter()
-            .zip(&input.frequencies_hz)
+            .zip(input.frequencies_hz())
             .zip(&want)
         {
             worst = worst.max((got / own - 1.0).abs());
@@ -87,9 +87,9 @@ fn reduced_files_read_back_with_the_retained_frequencies() {
             );
         }
         println!("{name}: largest relative frequency change {worst:.1e}");
-        let own = input.frequencies_hz[want.len() - 1];
-        assert!((body.freq_file / own - 1.0).abs() < 2e-9);
-        assert!(body.warnings.is_empty(), "{name}: {:?}", body.warnings);
+        let own = input.frequencies_hz()[want.len() - 1];
+        assert!((body.freq_file() / own - 1.0).abs() < 2e-9);
+        assert!(body.warnings().is_empty(), "{name}: {:?}", body.warnings());
         if let Some(m) = body.total_mass() {
             // M_R of the node subset is still the whole body's inertia: 1e-8 relative
             // (the fixture's own mass and the file rounding).
@@ -106,8 +106,8 @@ fn reduced_files_read_back_with_the_retained_frequencies() {
 /// Local-frame static displacement (6 per node) of `body` at its first `m` nodes under a
 /// local load `f` at those nodes, by a direct solve with K_L.
 fn static_local(body: &Body, m: usize, f: &DVector<f64>) -> DVector<f64> {
-    let g = DMatrix::from_fn(6 * m, body.nl(), |row, j| body.phi_l[(row, j)]);
-    let q = body.k_l.clone().lu().solve(&(g.transpose() * f)).unwrap();
+    let g = DMatrix::from_fn(6 * m, body.nl(), |row, j| body.phi_l()[(row, j)]);
+    let q = body.k_l().clone().lu().solve(&(g.transpose() * f)).unwrap();
     g * q
 }
 

@@ -196,7 +196,7 @@ fn energy_history(
     steps: usize,
 ) -> (f64, f64, f64) {
     let scene = random_scene(3, 2, 1, 11, None);
-    let wmax = 2.0 * std::f64::consts::PI * scene.body.frequencies_hz.last().unwrap();
+    let wmax = 2.0 * std::f64::consts::PI * scene.body.frequencies_hz().last().unwrap();
     let mut s = build(&scene, method, opts).unwrap();
     s.set_loads(&[1.0, -2.0, 0.5, 0.1, 0.0, 0.3]).unwrap();
     let h = h_over_dtfx * 2.0 / wmax;
@@ -383,7 +383,7 @@ fn implicit_static_limit_small_and_large() {
         let body = &scene.body;
         let load = [1.0, -0.5, 2.0, 0.3, 0.1, -0.2];
         // F_L = Phi^T P0^T [f; m] at the exposed node (FORMULATION.md section 2).
-        let rows = scene.exposed_rows(&body.phi_l);
+        let rows = scene.exposed_rows(body.phi_l());
         let mut fl = DVector::zeros(nl);
         let mut pt = DMatrix::zeros(3, nl);
         for j in 0..nl {
@@ -391,14 +391,14 @@ fn implicit_static_limit_small_and_large() {
                 let mut t = 0.0;
                 let mut r = 0.0;
                 for l in 0..3 {
-                    t += body.p0[(c, l)] * rows[(l, j)];
-                    r += body.p0[(c, l)] * rows[(3 + l, j)];
+                    t += body.p0()[(c, l)] * rows[(l, j)];
+                    r += body.p0()[(c, l)] * rows[(3 + l, j)];
                 }
                 pt[(c, j)] = t;
                 fl[j] += load[c] * t + load[3 + c] * r;
             }
         }
-        let q = body.k_l.clone().lu().solve(&fl).unwrap();
+        let q = body.k_l().clone().lu().solve(&fl).unwrap();
         let want = &pt * &q;
         let opts = Options {
             rho_inf: 0.0,
