@@ -93,7 +93,7 @@ fn main() {
             println!("{name}: not generated (python fixtures/generate.py --large)");
             continue;
         }
-        let body = Arc::new(load_body(&path).expect("fixture reads"));
+        let body = Arc::new(load_body(&path, Default::default()).expect("fixture reads"));
         let fmax = body.frequencies_hz().last().copied().unwrap_or(0.0);
         let beta = body.damping().map_or(0.0, |d| d.beta);
         let dt_fx = stable_step(fmax, beta);

@@ -154,7 +154,7 @@ fn run(path: &Path) {
         bits(&fast) == bits(&exact),
         "the fast and exact readings differ"
     );
-    let (t_load, body) = best(|| fxbody::body::load(path).expect("load"));
+    let (t_load, body) = best(|| fxbody::body::load(path, Default::default()).expect("load"));
     line("body::load (what info does)", t_load);
     let (t_stream, _) = best(|| fxb::read_path(path).expect("read_path"));
     line("fxb::read_path (as it is read)", t_stream);

@@ -56,7 +56,7 @@ fn run(name: &str, h: f64) {
         return;
     }
     let t0 = Instant::now();
-    let body = load_body(&fxb).unwrap();
+    let body = load_body(&fxb, Default::default()).unwrap();
     let xyz =
         coords::to_map(&coords::read_coords(&root.join(format!("{name}.nodes.rad"))).unwrap());
     println!(

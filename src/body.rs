@@ -13,7 +13,7 @@ mod modal;
 pub mod placement;
 
 pub use checks::{BodyError, FREQ_RATIO, MAX_LOCAL_MODES, Places, check_scene_body};
-pub use load::{LoadError, load, load_reporting, load_with_bytes, load_with_bytes_reporting};
+pub use load::{LoadError, LoadOptions, load};
 pub use modal::Modal;
 
 /// Rayleigh damping `C_L = alpha diag(m_L) + beta K_L` (block 4); zero when absent.
@@ -89,7 +89,7 @@ impl Support {
 /// use std::path::Path;
 ///
 /// let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/cantilever.fxb");
-/// let body = fxbody::body::load(&path)?;
+/// let body = fxbody::body::load(&path, Default::default())?;
 /// assert_eq!((body.nnodes(), body.nl(), body.nr()), (21, 20, 0)); // blocked: no rigid modes
 /// let f1 = body.frequencies_hz()[0];
 /// assert!((f1 - 6.684133).abs() < 1e-5 * 6.684133, "{f1} Hz");
@@ -125,7 +125,7 @@ impl Support {
 /// ```compile_fail,E0616
 /// # use std::path::Path;
 /// let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/cantilever.fxb");
-/// let mut body = fxbody::body::load(&path).unwrap();
+/// let mut body = fxbody::body::load(&path, Default::default()).unwrap();
 /// body.m_l[0] = -1.0; // the fields are private: no unchecked edit
 /// ```
 #[derive(Debug, Clone)]

@@ -494,7 +494,7 @@ mod tests {
                 if !(small && p.extension().is_some_and(|x| x == "fxb")) {
                     continue;
                 }
-                let Ok(b) = crate::body::load(&p) else {
+                let Ok(b) = crate::body::load(&p, Default::default()) else {
                     continue;
                 };
                 if b.nl() == 0 {

@@ -272,9 +272,7 @@ impl FreeScene {
         // every Body holds by construction (crate::body::Body); only the support is this
         // method's to check.
         if body.is_blocked() {
-            return Err(SolverError::BadInput(
-                "a blocked body (Iblo=1) is not a free body".into(),
-            ));
+            return Err(SolverError::BadInput(crate::solver::BadInput::NotFree));
         }
         let nr = body.nr();
         let nl = body.nl();
@@ -286,9 +284,10 @@ impl FreeScene {
             });
         }
         if let Some(&n) = scene.nodes.iter().find(|&&n| n >= body.nnodes()) {
-            return Err(SolverError::BadInput(format!(
-                "exposed node index {n} is not in the body"
-            )));
+            return Err(SolverError::BadInput(crate::solver::BadInput::Node {
+                index: n,
+                nodes: body.nnodes(),
+            }));
         }
         let phi_r = scene.exposed_rows(&body.phi_r);
         let phi_l = scene.exposed_rows(&body.phi_l);

@@ -60,9 +60,12 @@ fn explicit_stable_step(body: &Arc<Body>) -> f64 {
 /// Run `info`: the report on stdout, or the error message (for exit code 2).
 pub fn run(args: &InfoArgs) -> Result<(), String> {
     let progress = super::progress::Progress::start("checking");
-    let body =
-        fxbody::body::load_reporting(&args.file, &mut |done, total| progress.update(done, total))
-            .map_err(|e| not_a_body(&args.file).unwrap_or_else(|| e.to_string()))?;
+    let how = fxbody::body::LoadOptions {
+        progress: Some(&mut |done, total| progress.update(done, total)),
+        ..Default::default()
+    };
+    let body = fxbody::body::load(&args.file, how)
+        .map_err(|e| not_a_body(&args.file).unwrap_or_else(|| e.to_string()))?;
     let body = Arc::new(body);
     // The node list is checked before anything is printed.
     let modes = match &args.nodes {

@@ -29,7 +29,7 @@ pub struct ReduceArgs {
 
 /// Run `reduce`: write the file and a summary on stdout, or the error message.
 pub fn run(args: &ReduceArgs) -> Result<(), String> {
-    let body = fxbody::body::load(&args.file)
+    let body = fxbody::body::load(&args.file, Default::default())
         .map_err(|e| crate::info::not_a_body(&args.file).unwrap_or_else(|| e.to_string()))?;
     for w in body.warnings() {
         eprintln!("warning: {w}");

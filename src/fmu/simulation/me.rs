@@ -6,8 +6,8 @@
 //! the solver is built.
 
 use super::{Simulation, SimulationError};
+use crate::solver::SolverError;
 use crate::solver::continuous::Continuous;
-use crate::solver::{Method, SolverError};
 
 impl Simulation {
     /// The method's first-order form, the solver built and the loads passed on first.
@@ -22,17 +22,11 @@ impl Simulation {
             self.guard.forget();
             self.loads_dirty = false;
         }
-        s.continuous().ok_or_else(|| {
-            SimulationError::Solver(SolverError::Unsupported {
+        s.continuous()
+            .ok_or(SimulationError::Solver(SolverError::Unsupported {
                 method,
-                why: format!(
-                    "Model Exchange integrates the {} method's equations only where they \
-                     are a first-order system of the body alone: use method {} (exact)",
-                    crate::fmu::vars::method_name(method),
-                    Method::Exact as i32
-                ),
-            })
-        })
+                why: crate::solver::Unsupported::ModelExchange { method },
+            }))
     }
 
     /// The number of continuous states (builds the solver).

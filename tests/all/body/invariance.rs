@@ -20,7 +20,7 @@ use fxbody::fmu::pack::{PackRequest, find_library, pack};
 const NAIVE: &str = "tests/data/freefree_naive.fxb";
 
 fn load(path: &str) -> Body {
-    fxbody::body::load(&root().join(path)).unwrap_or_else(|e| panic!("{e}"))
+    fxbody::body::load(&root().join(path), Default::default()).unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// What the warning must say: the figures, that angular momentum is not conserved with

@@ -280,11 +280,11 @@ fn stable_step_formulas() {
 #[test]
 fn load_body_reads_and_validates() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
-    let b = fxbody::body::load(&dir.join("body_b0_r0_d1.fxb")).unwrap();
+    let b = fxbody::body::load(&dir.join("body_b0_r0_d1.fxb"), Default::default()).unwrap();
     assert!((b.total_mass().unwrap() - 5.0).abs() < 1e-8);
-    let e = fxbody::body::load(&dir.join("labels_r0_d0_ns1.fxb")).unwrap_err();
+    let e = fxbody::body::load(&dir.join("labels_r0_d0_ns1.fxb"), Default::default()).unwrap_err();
     assert!(matches!(e, fxbody::body::LoadError::Body(_)), "{e}");
-    let e = fxbody::body::load(&dir.join("missing.fxb")).unwrap_err();
+    let e = fxbody::body::load(&dir.join("missing.fxb"), Default::default()).unwrap_err();
     assert!(matches!(e, fxbody::body::LoadError::File(_)), "{e}");
     assert!(
         e.to_string()

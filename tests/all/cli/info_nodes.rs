@@ -56,7 +56,7 @@ fn free_free_beam_shows_participation_without_static_deflection_or_zero_masses()
     let got = v["modes"][0]["cumulative_local_share"]["521:Y"]
         .as_f64()
         .unwrap();
-    let body = fxbody::body::load(&fixture("freefree.fxb")).unwrap();
+    let body = fxbody::body::load(&fixture("freefree.fxb"), Default::default()).unwrap();
     let k = body.node_index(521).unwrap();
     // Independent of the report's code: the local modes' generalised eigenproblem solved
     // here with nalgebra's symmetric eigen-solver (m_L is diagonal), phi^2/omega^2 summed.
@@ -122,7 +122,7 @@ fn interior_node_participation_is_relative_to_the_bodys_own_flexibility() {
         r["model"]["E"].as_f64().unwrap(),
         r["model"]["section"]["Iz"].as_f64().unwrap(),
     );
-    let body = fxbody::body::load(&fixture("cantilever.fxb")).unwrap();
+    let body = fxbody::body::load(&fixture("cantilever.fxb"), Default::default()).unwrap();
     // Node 111 at 0.5 m, the tip 121 at 1 m: beam theory's P a^3 / (3 E Iz), which the
     // Hermite-cubic FE model reproduces exactly at its nodes.
     let mut off = Vec::new();

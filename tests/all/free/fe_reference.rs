@@ -28,7 +28,9 @@ struct Fixture {
 }
 
 fn named(name: &str) -> Fixture {
-    let body = Arc::new(load_body(&fixture(&format!("{name}.fxb"))).expect("fixture loads"));
+    let body = Arc::new(
+        load_body(&fixture(&format!("{name}.fxb")), Default::default()).expect("fixture loads"),
+    );
     let text = std::fs::read_to_string(fixture(&format!("{name}.ref.json"))).unwrap();
     let coords = to_map(&read_coords(&fixture(&format!("{name}.nodes.rad"))).unwrap());
     Fixture {

@@ -79,7 +79,7 @@ fn spin(body: Body, steps: usize) -> (f64, f64, f64) {
 }
 
 fn load(path: &str) -> Body {
-    fxbody::body::load(&root().join(path)).unwrap_or_else(|e| panic!("{e}"))
+    fxbody::body::load(&root().join(path), Default::default()).unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// The free-free beam as shipped (consistent mass, exact construction): over a million

@@ -93,7 +93,7 @@ fn check_page_agrees(p: &Prepared) -> (String, BTreeMap<String, Vec<String>>) {
 
 #[test]
 fn the_page_lists_modes_correction_and_dependencies_as_the_description() {
-    let f1 = load_body(&root().join("fixtures/cantilever.fxb"))
+    let f1 = load_body(&root().join("fixtures/cantilever.fxb"), Default::default())
         .unwrap()
         .frequencies_hz()[0];
     // Untruncated: 20 modes, no correction, no dependency.
@@ -116,7 +116,7 @@ fn the_page_lists_modes_correction_and_dependencies_as_the_description() {
 
 #[test]
 fn fmax_below_the_first_mode_warns_and_above_every_mode_keeps_all() {
-    let body = load_body(&root().join("fixtures/cantilever.fxb")).unwrap();
+    let body = load_body(&root().join("fixtures/cantilever.fxb"), Default::default()).unwrap();
     let (f1, top) = (
         body.frequencies_hz()[0],
         *body.frequencies_hz().last().unwrap(),
@@ -163,7 +163,7 @@ fn numbers_after(s: &str, key: &str, end: &str) -> Vec<f64> {
 /// exposed node and draws the first kept modes, captioned with their frequencies.
 #[test]
 fn the_page_shows_the_stored_freq_and_draws_the_nodes_and_modes() {
-    let full = load_body(&root().join("fixtures/cantilever.fxb")).unwrap();
+    let full = load_body(&root().join("fixtures/cantilever.fxb"), Default::default()).unwrap();
     let first = full.frequencies_hz()[0];
     let p = pack(Some(1.5 * first));
     let html = index_html(&p.scene, &p.table, &p.options, &p.guid);

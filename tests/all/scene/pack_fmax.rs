@@ -27,7 +27,7 @@ fn packed_truncation_feeds_through_and_tracks_the_reference() {
     let text = std::fs::read_to_string(root().join("fixtures/cantilever.ref.json")).unwrap();
     let reference: Value = serde_json::from_str(&text).unwrap();
     let tip = reference["tip_node"].as_i64().unwrap();
-    let full = load_body(&root().join("fixtures/cantilever.fxb")).unwrap();
+    let full = load_body(&root().join("fixtures/cantilever.fxb"), Default::default()).unwrap();
     let fmax = 2.0 * full.frequencies_hz()[0];
     let req = PackRequest {
         body: root().join("fixtures/cantilever.fxb"),
@@ -154,7 +154,7 @@ fn a_low_fmax_keeps_every_variable_and_value_reference() {
     let vr = |want: Kind| p.table.vars.iter().find(|v| v.kind == want).unwrap().vr;
     let mz = vr(Kind::Load { node: 0, comp: 5 });
     let rz = vr(Kind::Rotation { node: 0, comp: 2 });
-    let body = load_body(&root().join("fixtures/cantilever.fxb")).unwrap();
+    let body = load_body(&root().join("fixtures/cantilever.fxb"), Default::default()).unwrap();
     let want = static_u(&body, body.node_index(tip).unwrap(), 5);
     let mut m = Simulation::new(p.scene, p.guid);
     m.setup(0.0, None).unwrap();

@@ -35,7 +35,7 @@ fn reduce(name: &str, nodes: &str, fmax: f64) -> (Body, String) {
         "{stdout}{}",
         String::from_utf8_lossy(&run.stderr)
     );
-    let body = load_body(&out).unwrap();
+    let body = load_body(&out, Default::default()).unwrap();
     let _ = std::fs::remove_file(&out);
     (body, stdout)
 }
@@ -60,7 +60,7 @@ fn reduced_files_read_back_with_the_retained_frequencies() {
             .map(|v| v.as_f64().unwrap())
             .filter(|&f| f <= fmax)
             .collect();
-        let input = load_body(&fixture(&format!("{name}.fxb"))).unwrap();
+        let input = load_body(&fixture(&format!("{name}.fxb")), Default::default()).unwrap();
         let (body, stdout) = reduce(name, nodes, fmax);
         print!("{stdout}");
         assert_eq!(body.nl(), want.len(), "{name}: modes kept");
@@ -117,7 +117,7 @@ fn reduced_file_plus_residual_keeps_the_static_deflection() {
     // the reduced file's static deflection (read back, direct K_L solve) plus the
     // residual flexibility equals the full body's at those nodes, for a unit load in
     // each of the 12 directions, to 1e-8 of the largest displacement (file rounding).
-    let full = load_body(&fixture("cantilever_damped.fxb")).unwrap();
+    let full = load_body(&fixture("cantilever_damped.fxb"), Default::default()).unwrap();
     let (small, _) = reduce("cantilever_damped", "121,111", 50.0);
     let nodes = [full.node_index(121).unwrap(), full.node_index(111).unwrap()];
     let residual = truncate(&full, 50.0).unwrap().residual(&nodes);

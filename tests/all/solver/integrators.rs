@@ -420,3 +420,66 @@ fn implicit_static_limit_small_and_large() {
         assert!(err < 1e-8, "{nl} modes: {err:e}");
     }
 }
+
+/// A refused call's error is data that names the value refused, through the public
+/// builder and state API: an out-of-range rho_inf and dt_factor, a state of another
+/// method and one of the wrong length (issue 27, point 6).
+#[test]
+fn refusals_carry_and_name_the_value() {
+    use fxbody::solver::{BadState, SolverError, Unsupported};
+    let scene = one_mode_scene(2.0, 800.0, None);
+    let opts = Options {
+        rho_inf: 1.75,
+        ..Options::default()
+    };
+    let e = build(&scene, Method::Implicit, &opts)
+        .err()
+        .expect("refused");
+    assert_eq!(
+        e,
+        SolverError::Unsupported {
+            method: Method::Implicit,
+            why: Unsupported::RhoInf {
+                value: 1.75,
+                max: 1.0,
+                free: false
+            }
+        }
+    );
+    assert!(e.to_string().contains("got 1.75"), "{e}");
+    let opts = Options {
+        dt_factor: 3.5,
+        ..Options::default()
+    };
+    let e = build(&scene, Method::Explicit, &opts)
+        .err()
+        .expect("refused");
+    assert!(
+        matches!(e, SolverError::Unsupported { why: Unsupported::DtFactor(v), .. } if v == 3.5),
+        "{e:?}"
+    );
+    assert!(e.to_string().ends_with("got 3.5"), "{e}");
+    let mut exact = build(&scene, Method::Exact, &Options::default()).unwrap();
+    let implicit = build(&scene, Method::Implicit, &Options::default()).unwrap();
+    let e = exact.set_state(&implicit.state()).unwrap_err();
+    assert_eq!(
+        e,
+        SolverError::BadState(BadState::Method {
+            saved: Method::Implicit,
+            runs: Method::Exact
+        })
+    );
+    assert!(e.to_string().contains("saved by method Implicit"), "{e}");
+    let mut short = exact.state();
+    let n = short.data.len();
+    short.data.pop();
+    let e = exact.set_state(&short).unwrap_err();
+    assert_eq!(
+        e,
+        SolverError::BadState(BadState::Length {
+            expected: n,
+            found: n - 1
+        })
+    );
+    assert!(e.to_string().contains(&format!("got {}", n - 1)), "{e}");
+}
