@@ -161,14 +161,14 @@ fn main() {
     let body = &res.scene.body;
     let row = |node: usize, c: usize| -> Vec<f64> {
         (0..body.nl())
-            .map(|j| body.phi_l[(6 * node + c, j)])
+            .map(|j| body.phi_l()[(6 * node + c, j)])
             .collect()
     };
     let n121 = res.scene.nodes[0];
     let k: Vec<Vec<f64>> = (0..body.nl())
-        .map(|i| (0..body.nl()).map(|j| body.k_l[(i, j)]).collect())
+        .map(|i| (0..body.nl()).map(|j| body.k_l()[(i, j)]).collect())
         .collect();
-    let m: Vec<f64> = body.m_l.iter().copied().collect();
+    let m: Vec<f64> = body.m_l().iter().copied().collect();
     let json = serde_json::json!({"k_l": k, "m_l": m, "phi_in": row(n121, 1), "phi_out": [row(n121, 1)], "force": force});
     let mats = tmp.join("mats.json");
     std::fs::write(&mats, json.to_string()).unwrap();

@@ -52,8 +52,8 @@ fn scene(body: &Arc<Body>, nodes: Vec<usize>, spin: bool) -> Scene {
     let x0 = nodes.iter().map(|&n| all[n]).collect();
     let mut s = Scene::new(body.clone(), nodes, x0);
     if spin {
-        let w1 = 2.0 * std::f64::consts::PI * body.frequencies_hz[0];
-        let w = body.p0 * nalgebra::Vector3::new(1.0, -2.0, 3.0).normalize() * (0.018 * w1);
+        let w1 = 2.0 * std::f64::consts::PI * body.frequencies_hz()[0];
+        let w = body.p0() * nalgebra::Vector3::new(1.0, -2.0, 3.0).normalize() * (0.018 * w1);
         s.w0 = [w[0], w[1], w[2]];
     }
     s
@@ -108,9 +108,9 @@ fn main() {
             println!("{name}: not generated (python fixtures/generate.py --large)");
             continue;
         }
-        let body = Arc::new(load_body(&path).expect("fixture reads"));
-        let fmax = body.frequencies_hz.last().copied().unwrap_or(0.0);
-        let beta = body.damping.map_or(0.0, |d| d.beta);
+        let body = Arc::new(load_body(&path, Default::default()).expect("fixture reads"));
+        let fmax = body.frequencies_hz().last().copied().unwrap_or(0.0);
+        let beta = body.damping().map_or(0.0, |d| d.beta);
         let dt_fx = stable_step(fmax, beta);
         let n = body.nnodes();
         let big = n > 1000;

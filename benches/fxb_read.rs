@@ -154,7 +154,7 @@ fn run(path: &Path) {
         bits(&fast) == bits(&exact),
         "the fast and exact readings differ"
     );
-    let (t_load, body) = best(|| fxbody::body::load(path).expect("load"));
+    let (t_load, body) = best(|| fxbody::body::load(path, Default::default()).expect("load"));
     line("body::load (what info does)", t_load);
     let (t_stream, _) = best(|| fxb::read_path(path).expect("read_path"));
     line("fxb::read_path (as it is read)", t_stream);
@@ -211,7 +211,7 @@ fn run(path: &Path) {
     let _ = std::fs::remove_dir_all(&out);
     println!(
         "  {} nodes, {} modes; identical bits fast vs exact: yes{}",
-        body.node_ids.len(),
+        body.node_ids().len(),
         body.nl(),
         scene.map_or(String::new(), |n| format!("; pack exposes nodes {n:?}"))
     );

@@ -129,7 +129,12 @@ fn main() {
     let mut keep = Vec::new();
     for _ in 0..n_old {
         let t = Instant::now();
-        let (body, bytes) = fxbody::body::load_with_bytes(&fxb).unwrap();
+        let mut bytes = Vec::new();
+        let how = fxbody::body::LoadOptions {
+            keep_bytes: Some(&mut bytes),
+            ..Default::default()
+        };
+        let body = fxbody::body::load(&fxb, how).unwrap();
         let csv = std::fs::read(&deck).unwrap();
         let map = coords::to_map(&coords::read_coords(&deck).unwrap());
         fxbody::body::placement::check_coords(&body, &map, "deck", "body").unwrap();

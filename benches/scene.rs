@@ -56,7 +56,7 @@ fn run(name: &str, h: f64) {
         return;
     }
     let t0 = Instant::now();
-    let body = load_body(&fxb).unwrap();
+    let body = load_body(&fxb, Default::default()).unwrap();
     let xyz =
         coords::to_map(&coords::read_coords(&root.join(format!("{name}.nodes.rad"))).unwrap());
     println!(
@@ -70,7 +70,7 @@ fn run(name: &str, h: f64) {
     let hz = basis.frequencies_hz();
     let fmax = hz[19];
     let body = Arc::new(body);
-    let ids = body.node_ids.clone();
+    let ids = body.node_ids().to_vec();
     let x0 = |nodes: &[usize]| nodes.iter().map(|&n| xyz[&ids[n]]).collect();
     let full = Scene::new(body.clone(), all.clone(), x0(&all));
     // Two nodes: the last one (a free corner) and the middle of the node list.
@@ -83,7 +83,7 @@ fn run(name: &str, h: f64) {
         t.dropped_hz.len(),
         hz.last().unwrap()
     );
-    let beta = body.damping.map_or(0.0, |d| d.beta);
+    let beta = body.damping().map_or(0.0, |d| d.beta);
     let dt_full = stable_step(*hz.last().unwrap(), beta);
     let dt_small = stable_step(fmax, beta);
     println!(
@@ -92,7 +92,7 @@ fn run(name: &str, h: f64) {
         (h / (0.9 * dt_small)).ceil(),
         dt_small / dt_full
     );
-    let methods: &[Method] = if body.iblo {
+    let methods: &[Method] = if body.is_blocked() {
         &[Method::Exact, Method::Implicit, Method::Explicit]
     } else {
         &[Method::Implicit, Method::Explicit]

@@ -25,7 +25,7 @@ use reduce::{ReduceError, Residual, Truncation, truncate};
 /// use fxbody::scene::Scene;
 ///
 /// let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures");
-/// let body = load_body(&dir.join("cantilever.fxb"))?;
+/// let body = load_body(&dir.join("cantilever.fxb"), Default::default())?;
 /// let xyz = coords::to_map(&coords::read_coords(&dir.join("cantilever.nodes.rad"))?);
 /// let ids = [111, 121];
 /// let nodes = ids.iter().map(|id| body.node_index(*id).ok_or("no such node"));

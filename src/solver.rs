@@ -19,6 +19,7 @@ use crate::scene::Scene;
 pub mod continuous;
 pub mod damping;
 mod dense;
+pub mod error;
 pub mod exact;
 pub mod explicit;
 mod expm;
@@ -29,6 +30,9 @@ pub mod nodes;
 pub mod residual;
 pub(crate) mod rollback;
 
+pub use error::{
+    BadInput, BadState, FrameAdvice, Invalid, Overflow, Singular, SolverError, Unsupported,
+};
 pub use exact::Exact;
 pub use explicit::Explicit;
 pub use implicit::Implicit;
@@ -69,96 +73,6 @@ impl Default for Options {
             subcycle: true,
             damping_ratio: 0.0,
         }
-    }
-}
-
-/// Why a solver could not be built or could not step.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum SolverError {
-    /// A method was asked for a body it does not handle.
-    #[error("method {method:?} does not handle this body: {why}")]
-    Unsupported {
-        /// The method asked for.
-        method: Method,
-        /// Why not.
-        why: String,
-    },
-    /// A step size that is not finite and positive.
-    #[error("step size must be finite and > 0, got {}", crate::num::num(*.0))]
-    BadStep(f64),
-    /// A slice of the wrong length was passed.
-    #[error("{what}: expected {expected} values, got {found}")]
-    BadLength {
-        /// Which argument.
-        what: &'static str,
-        /// Expected length.
-        expected: usize,
-        /// Given length.
-        found: usize,
-    },
-    /// A saved state that does not belong to this solver.
-    #[error("state does not fit this solver: {0}")]
-    BadState(String),
-    /// An argument or scene value that is not usable (non-finite load, node index
-    /// outside the body).
-    #[error("bad input: {0}")]
-    BadInput(String),
-    /// The body cannot be simulated (for example a singular rigid mass).
-    #[error("body cannot be simulated: {0}")]
-    Singular(String),
-    /// A step would take more internal steps than [`MAX_INTERNAL_STEPS`]: refused before
-    /// any work, so that no call runs for minutes or forever.
-    #[error(
-        "a step of {} s needs {} internal steps of at most {} s, more than the budget of {MAX_INTERNAL_STEPS} per call; {}",
-        crate::num::num(*h), step_count(*steps), crate::num::num(*internal), budget_advice(*max_h)
-    )]
-    TooManySteps {
-        /// The step asked for.
-        h: f64,
-        /// Internal steps it would take (a float: it may not fit an integer).
-        steps: f64,
-        /// The largest internal step the method may take.
-        internal: f64,
-        /// The largest communication step that fits the budget.
-        max_h: f64,
-    },
-    /// The step would produce a non-finite value; the solver state is left as it was.
-    #[error("the step would make {what} non-finite ({cause})")]
-    NonFinite {
-        /// Which variable or state part.
-        what: String,
-        /// Why, as far as known (for example the load that overflowed).
-        cause: String,
-    },
-    /// The body has left the model's validity (for example its frame is no longer a
-    /// rotation); the step is refused with the figure and advice.
-    #[error("{0}")]
-    Invalid(String),
-}
-
-/// The advice of [`SolverError::TooManySteps`]: the largest communication step that fits
-/// the budget when it is a usable number (positive, a normal `f64`); otherwise no step
-/// of any usable size fits (the method's internal step underflows, for example under an
-/// added damping ratio near `f64::MAX`), and another method is the remedy.
-fn budget_advice(max_h: f64) -> String {
-    if max_h.is_normal() && max_h > 0.0 {
-        format!("use steps of at most {} s", crate::num::num(max_h))
-    } else {
-        format!(
-            "no step of a usable size fits the budget (the largest is {} s): use another \
-             method",
-            crate::num::num(max_h)
-        )
-    }
-}
-
-/// An internal step count for [`SolverError::TooManySteps`]: beyond `f64::MAX` (an
-/// internal step that underflows) it is "more than 1.8e308", never "inf".
-fn step_count(steps: f64) -> String {
-    if steps.is_finite() {
-        crate::num::num(steps)
-    } else {
-        format!("more than {}", crate::num::num(f64::MAX))
     }
 }
 
@@ -413,7 +327,7 @@ pub trait BoundedStep: Solver {
 /// use fxbody::solver::{Method, Options, build};
 ///
 /// let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/cantilever.fxb");
-/// let body = load_body(&path)?;
+/// let body = load_body(&path, Default::default())?;
 /// let tip = body.node_index(121).ok_or("no tip node")?;
 /// let scene = Scene::new(Arc::new(body), vec![tip], vec![[1.0, 0.0, 0.0]]);
 /// let opts = Options { rho_inf: 0.0, ..Options::default() };
@@ -438,11 +352,7 @@ pub fn build(
     // step that fails and a state that cannot be put back.
     let state = s.state();
     if state.data.iter().any(|x| !x.is_finite()) {
-        return Err(SolverError::Invalid(
-            "the initial state is not finite: gravity, the initial velocity or spin, or the \
-             damping is too large for this body"
-                .into(),
-        ));
+        return Err(SolverError::Invalid(Invalid::InitialState));
     }
     Ok(s)
 }
@@ -461,23 +371,21 @@ fn build_method(
         let inner = build_method(&bare, method, opts)?;
         return Ok(Box::new(residual::Residual::new(scene, inner)?));
     }
-    if !scene.body.iblo {
+    if !scene.body.is_blocked() {
         return match method {
             Method::Explicit => Ok(Box::new(free::Explicit::new(scene, opts)?)),
             Method::Implicit => Ok(Box::new(free::Implicit::new(scene, opts)?)),
             Method::Split => Ok(Box::new(free::Split::new(scene, opts)?)),
             Method::Exact => Err(SolverError::Unsupported {
                 method,
-                why: "exact modal stepping needs a blocked body (Iblo=1)".into(),
+                why: Unsupported::NeedsBlocked,
             }),
         };
     }
     match method {
         Method::Split => Err(SolverError::Unsupported {
             method,
-            why: "the split method is for free bodies (Iblo=0); a blocked body is linear: \
-                  use the exact method"
-                .into(),
+            why: Unsupported::NeedsFree,
         }),
         Method::Exact => Ok(Box::new(Exact::new(scene, opts)?)),
         Method::Implicit => Ok(Box::new(Implicit::new(scene, opts)?)),

@@ -26,6 +26,29 @@ pub const MAX_LOCAL_MODES: usize = 5000;
 /// the block holding the faulty numbers.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum BodyError {
+    /// Parts given to [`Body::from_parts`] whose sizes do not fit together.
+    #[error(
+        "{name}: {what} must be {} x {}, found {} x {}",
+        expected.0, expected.1, found.0, found.1
+    )]
+    Shape {
+        /// The body's source.
+        name: String,
+        /// Which matrix or list.
+        what: &'static str,
+        /// The size the other parts imply (rows, columns; a list is `n x 1`).
+        expected: (usize, usize),
+        /// Its size.
+        found: (usize, usize),
+    },
+    /// Parts given to [`Body::from_parts`] holding a number that is not finite.
+    #[error("{name}: the body's numbers must be finite, found {value}")]
+    PartNotFinite {
+        /// The body's source.
+        name: String,
+        /// The first such number.
+        value: f64,
+    },
     /// A block whose length does not match the header counts (hand-built files only).
     #[error(
         "{name}: {block}: inconsistent with the header: expected {expected} values, found {found}"
@@ -284,6 +307,18 @@ pub enum BodyError {
 /// Check a raw file's counts and values before assembly (so assembly cannot index out of
 /// bounds).
 pub(super) fn check_raw(f: &FxbFile, name: &str) -> Result<(), BodyError> {
+    check_counts(f, name)?;
+    let places = &Places::FXB;
+    if let Some((a, b)) = f.damping {
+        physics::check_damping(a, b, places, name)?;
+    }
+    // Before assembly: the eigen analysis divides by sqrt(m_L).
+    physics::check_local_masses(&f.m_l, places, name)
+}
+
+/// Check a raw file's block lengths against its header and that its numbers are
+/// finite: what assembly needs to index in bounds.
+pub(super) fn check_counts(f: &FxbFile, name: &str) -> Result<(), BodyError> {
     let (n, nl, ns, nr) = (f.nbnod, f.nbmod, f.nbstat, f.nr());
     if n == 0 {
         return Err(BodyError::NoNodes { name: name.into() });
@@ -374,17 +409,23 @@ pub(super) fn check_raw(f: &FxbFile, name: &str) -> Result<(), BodyError> {
             value: frame[index],
         });
     }
-    let places = &Places::FXB;
-    if let Some((a, b)) = f.damping {
-        physics::check_damping(a, b, places, name)?;
-    }
-    // Before assembly: the eigen analysis divides by sqrt(m_L).
-    physics::check_local_masses(&f.m_l, places, name)
+    Ok(())
 }
 
 /// Check the assembled body of a `.fxb` file; returns the warnings.
 pub(super) fn check_body(b: &Body, name: &str) -> Result<Vec<String>, BodyError> {
     physics::check_physics(b, &Places::FXB, name)
+}
+
+/// The physical checks of a body built from parts ([`Body::from_parts`], the scene-file
+/// reader): [`check_scene_body`], with the places named by `places`.
+pub(super) fn check_parts(b: &Body, places: &Places, name: &str) -> Result<Vec<String>, BodyError> {
+    physics::check_local_masses(b.m_l.as_slice(), places, name)?;
+    if let Some(d) = b.damping {
+        physics::check_damping(d.alpha, d.beta, places, name)?;
+    }
+    physics::check_modal_solution(b, places, name)?;
+    physics::check_physics(b, places, name)
 }
 
 /// The physical checks of a body read from an FMU's scene file (the exposed nodes'
@@ -396,13 +437,7 @@ pub(super) fn check_body(b: &Body, name: &str) -> Result<Vec<String>, BodyError>
 /// exposed node, M_R definite on the rigid motions. Errors name the scene file and the
 /// section. Cheap at scene size: the modes are checked, not solved (O(nL^2)).
 pub fn check_scene_body(b: &Body, name: &str) -> Result<(), BodyError> {
-    let places = &Places::SCENE;
-    physics::check_local_masses(b.m_l.as_slice(), places, name)?;
-    if let Some(d) = b.damping {
-        physics::check_damping(d.alpha, d.beta, places, name)?;
-    }
-    physics::check_modal_solution(b, places, name)?;
-    physics::check_physics(b, places, name).map(|_| ())
+    check_parts(b, &Places::SCENE, name).map(|_| ())
 }
 
 #[cfg(test)]
@@ -459,7 +494,7 @@ mod tests {
                 if !(small && p.extension().is_some_and(|x| x == "fxb")) {
                     continue;
                 }
-                let Ok(b) = crate::body::load(&p) else {
+                let Ok(b) = crate::body::load(&p, Default::default()) else {
                     continue;
                 };
                 if b.nl() == 0 {

@@ -148,7 +148,7 @@ fn turn(axis: [f64; 3], deg: f64) -> Matrix3<f64> {
 /// The figures of a free body; `None` for a blocked one or one without rigid mass.
 pub fn measure(body: &Body) -> Option<Invariance> {
     let nr = body.nr();
-    if body.iblo || nr < 12 {
+    if body.is_blocked() || nr < 12 {
         return None;
     }
     let g0 = unit_motion(nr);

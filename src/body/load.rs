@@ -32,43 +32,36 @@ impl From<BodyError> for LoadError {
     }
 }
 
+/// How [`load`] reads a file. `LoadOptions::default()` reads it streaming, keeps no
+/// bytes and reports no progress.
+#[derive(Default)]
+pub struct LoadOptions<'a> {
+    /// Where to keep the file's bytes, for a caller that stores or hashes them too: the
+    /// file is then read whole and parsed from memory. Without it the file is parsed as
+    /// it is read, never whole in memory ([`fxb::read_path_with`]).
+    pub keep_bytes: Option<&'a mut Vec<u8>>,
+    /// Told (bytes parsed, total bytes) about every MiB while the file is parsed, so that
+    /// a command can draw a progress bar for a large body.
+    pub progress: Option<&'a mut dyn FnMut(u64, u64)>,
+}
+
 /// Read a `.fxb` file and validate it into a [`Body`] (warnings are in
-/// `Body::warnings`); the file name in errors is the path as given. The file is parsed
-/// as it is read, never whole in memory ([`fxb::read_path_with`]).
-pub fn load(path: &Path) -> Result<Body, LoadError> {
-    load_reporting(path, &mut |_, _| {})
-}
-
-/// [`load`], also returning the file's bytes (read whole, then parsed): for a caller
-/// that stores or hashes them too.
-pub fn load_with_bytes(path: &Path) -> Result<(Body, Vec<u8>), LoadError> {
-    load_with_bytes_reporting(path, &mut |_, _| {})
-}
-
-/// [`load_with_bytes`], telling `progress` as [`load_reporting`] does.
-pub fn load_with_bytes_reporting(
-    path: &Path,
-    progress: &mut dyn FnMut(u64, u64),
-) -> Result<(Body, Vec<u8>), LoadError> {
+/// [`Body::warnings`]), as `opts` says; the file name in errors is the path as given.
+/// The one way every command and the packer load a body.
+pub fn load(path: &Path, opts: LoadOptions) -> Result<Body, LoadError> {
     let name = path.display().to_string();
-    let bytes = fxb::read_bytes(path)?;
     let how = fxb::Reading {
-        progress: Some(progress),
+        progress: opts.progress,
         ..fxb::Reading::default()
     };
-    let file = fxb::parse_with(&bytes, &name, how)?;
-    Ok((Body::from_fxb_owned(file, &name)?, bytes))
-}
-
-/// [`load`], telling `progress` (bytes parsed, total bytes) about every MiB while the
-/// file is parsed, so that a command can draw a progress bar for a large body.
-pub fn load_reporting(path: &Path, progress: &mut dyn FnMut(u64, u64)) -> Result<Body, LoadError> {
-    let how = fxb::Reading {
-        progress: Some(progress),
-        ..fxb::Reading::default()
+    let file = match opts.keep_bytes {
+        Some(keep) => {
+            *keep = fxb::read_bytes(path)?;
+            fxb::parse_with(keep, &name, how)?
+        }
+        None => fxb::read_path_with(path, how)?,
     };
-    let file = fxb::read_path_with(path, how)?;
-    Ok(Body::from_fxb_owned(file, &path.display().to_string())?)
+    Ok(Body::from_fxb_owned(file, &name)?)
 }
 
 #[cfg(test)]
@@ -86,7 +79,7 @@ mod tests {
     #[test]
     fn every_failure_names_the_file_and_the_bytes_are_the_files() {
         let missing = data("missing.fxb");
-        let e = load(&missing).unwrap_err();
+        let e = load(&missing, LoadOptions::default()).unwrap_err();
         assert!(matches!(e, LoadError::File(_)), "{e}");
         assert!(
             e.to_string()
@@ -94,11 +87,16 @@ mod tests {
             "{e}"
         );
         let bad = data("labels_r0_d0_ns1.fxb");
-        let e = load(&bad).unwrap_err();
+        let e = load(&bad, LoadOptions::default()).unwrap_err();
         assert!(matches!(e, LoadError::Body(_)), "{e}");
         assert!(e.to_string().contains("labels_r0_d0_ns1.fxb"), "{e}");
         let good = data("body_b0_r0_d1.fxb");
-        let (body, bytes) = load_with_bytes(&good).unwrap();
+        let mut bytes = Vec::new();
+        let how = LoadOptions {
+            keep_bytes: Some(&mut bytes),
+            ..LoadOptions::default()
+        };
+        let body = load(&good, how).unwrap();
         assert_eq!(bytes, std::fs::read(&good).unwrap());
         // Free body of the fixture generator: total mass 5 (tests/data/make_data.py).
         assert!((body.total_mass().unwrap() - 5.0).abs() < 1e-8);

@@ -30,7 +30,7 @@ pub struct MassProperties {
 /// The mass properties of a free body; `None` for a blocked body (no M_R) or a body
 /// without mass.
 pub fn mass_properties(body: &Body) -> Option<MassProperties> {
-    if body.iblo || body.nr() < 12 {
+    if body.is_blocked() || body.nr() < 12 {
         return None;
     }
     let idx = |a: usize, c: usize| if a < 3 { 3 * a + c } else { 9 + c };

@@ -210,7 +210,8 @@ mod tests {
     fn the_page_names_the_default_method_and_why() {
         let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
         let blocked = crate::scene::io::cantilever_tip_scene();
-        let body = crate::body::load(&root.join("fixtures/freefree.fxb")).unwrap();
+        let body =
+            crate::body::load(&root.join("fixtures/freefree.fxb"), Default::default()).unwrap();
         let x = body.rigid_mode_positions().unwrap();
         let free = crate::scene::Scene::new(std::sync::Arc::new(body), vec![20], vec![x[20]]);
         let opts = SceneOptions {

@@ -135,7 +135,7 @@ pub fn prepare_opts(req: &PackRequest, popts: &PackOptions) -> Result<Prepared, 
 }
 
 /// [`prepare_opts`], telling `progress` (bytes parsed, total) while the body file is
-/// read ([`body::load_reporting`]).
+/// read ([`body::LoadOptions::progress`]).
 pub fn prepare_reporting(
     req: &PackRequest,
     popts: &PackOptions,
@@ -174,11 +174,14 @@ pub fn prepare_reporting(
     let body_name = req.body.display().to_string();
     // The body file's bytes are kept only to be stored (--embed-source); otherwise it is
     // parsed as it is read, never whole in memory.
-    let (body, body_bytes) = if req.embed_source {
-        body::load_with_bytes_reporting(&req.body, progress)?
-    } else {
-        (body::load_reporting(&req.body, progress)?, Vec::new())
-    };
+    let mut body_bytes = Vec::new();
+    let body = body::load(
+        &req.body,
+        body::LoadOptions {
+            keep_bytes: req.embed_source.then_some(&mut body_bytes),
+            progress: Some(progress),
+        },
+    )?;
     let mut notes: Vec<String> = body
         .warnings
         .iter()

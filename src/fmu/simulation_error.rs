@@ -227,7 +227,12 @@ mod tests {
     /// refuses its own saved state, which no test can provoke through the FMU).
     #[test]
     fn a_refused_step_says_what_and_whether_the_state_was_put_back() {
-        let cause = SolverError::Invalid("frame no longer a rotation".into());
+        let cause = SolverError::Invalid(crate::solver::Invalid::Frame {
+            h: 1e-3,
+            error: 1e-3,
+            spin: 2.0,
+            advice: crate::solver::FrameAdvice::SmallerSteps,
+        });
         let kept = SimulationError::StepRefused(Box::new(StepRefused {
             t: 0.5,
             h: 1e-3,
@@ -247,14 +252,18 @@ mod tests {
             h: 1e-3,
             cause: cause.clone(),
             largest_input: None,
-            restored: Err(SolverError::Invalid("wrong size".into())),
+            restored: Err(SolverError::BadState(crate::solver::BadState::Length {
+                expected: 4,
+                found: 3,
+            })),
         }));
         assert_eq!(
             lost.to_string(),
             format!(
                 "step from t = 0.5 with h = 0.001 refused: {cause}; the state before the step \
                  could not be put back: {}",
-                SolverError::Invalid("wrong size".into())
+                "state does not fit this solver: expected 4 numbers for this scene and \
+                 method, got 3"
             )
         );
     }

@@ -185,7 +185,7 @@ impl VarTable {
     /// moment inputs exist only for nodes with rotational DOFs.
     pub fn new(scene: &Scene) -> VarTable {
         let body = &scene.body;
-        let free = !body.iblo;
+        let free = !body.is_blocked();
         let default_method = default_method(free).0;
         let mut vars = Vec::new();
         let mut push = |name: String, causality, start, kind, quantity, description: String| {

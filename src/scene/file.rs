@@ -15,10 +15,10 @@
 
 use nalgebra::DMatrix;
 
-use crate::body::Body;
+use crate::body::BodyParts;
 use crate::fmu::hash::fnv1a64_words;
 use crate::scene::Scene;
-use crate::scene::reduce::select_nodes;
+use crate::scene::reduce::{Residual, select_nodes};
 
 /// The first eight bytes of every scene file.
 pub const MAGIC: [u8; 8] = *b"FXBSCENE";
@@ -138,15 +138,22 @@ pub struct Stored {
 /// The bytes of the scene file for `scene` (a scene of any body: only its exposed
 /// nodes' rows are written).
 pub fn to_bytes(scene: &Scene) -> Vec<u8> {
-    let body = select_nodes(&scene.body, &scene.nodes);
-    let (m, nl, nr) = (body.nnodes(), body.nl(), body.nr());
+    let body = select_nodes(&scene.body, &scene.nodes).into_parts();
+    parts_to_bytes(&body, &scene.x0, scene.residual.as_deref())
+}
+
+/// The bytes of a scene file holding `body` as given (every node of it, at `x0`) and the
+/// residual flexibility `residual`: written as they are, unchecked, which is what a test
+/// of the reader's checks needs; the reader checks them ([`from_bytes`]).
+pub fn parts_to_bytes(body: &BodyParts, x0: &[[f64; 3]], residual: Option<&Residual>) -> Vec<u8> {
+    let (m, nl, nr) = (body.node_ids.len(), body.m_l.len(), body.phi_r.ncols());
     let mut w = Writer::default();
-    let stif = stif_radioss(&body);
+    let stif = stif_radioss(&body.k_l, body.nbstat);
     let flags = u64::from(body.irot)
-        | u64::from(body.iblo) << 1
+        | u64::from(body.support.iblo()) << 1
         | u64::from(body.ifile) << 2
         | u64::from(body.damping.is_some()) << 3
-        | u64::from(scene.residual.is_some()) << 4;
+        | u64::from(residual.is_some()) << 4;
     let damping = body.damping.unwrap_or_default();
     w.section(b"BODY", |s| {
         for v in [m, nl, nr, body.nbstat] {
@@ -158,7 +165,7 @@ pub fn to_bytes(scene: &Scene) -> Vec<u8> {
         } else {
             STIF_DENSE
         });
-        s.u64(scene.residual.as_ref().map_or(0, |r| r.dropped as u64));
+        s.u64(residual.map_or(0, |r| r.dropped as u64));
         s.f64s(&[body.freq_file, damping.alpha, damping.beta]);
         for r in 0..3 {
             for c in 0..3 {
@@ -168,7 +175,7 @@ pub fn to_bytes(scene: &Scene) -> Vec<u8> {
     });
     w.section(b"NODE", |s| {
         body.node_ids.iter().for_each(|&id| s.u64(id as u64));
-        scene.x0.iter().for_each(|x| s.f64s(x));
+        x0.iter().for_each(|x| s.f64s(x));
     });
     w.section(b"PHIR", |s| s.f64s(body.phi_r.as_slice()));
     w.section(b"PHIL", |s| s.f64s(body.phi_l.as_slice()));
@@ -190,7 +197,7 @@ pub fn to_bytes(scene: &Scene) -> Vec<u8> {
         body.modal.ascending.iter().for_each(|&j| s.u64(j as u64));
     });
     w.section(b"RESI", |s| {
-        if let Some(r) = &scene.residual {
+        if let Some(r) = residual {
             s.f64s(r.r.as_slice());
         }
     });
@@ -207,22 +214,22 @@ pub fn to_bytes(scene: &Scene) -> Vec<u8> {
 
 /// K_L in the `.fxb` storage (static rows from the diagonal on, then the diagonal), when
 /// that storage gives back every bit of it; `None` otherwise (then it is stored dense).
-fn stif_radioss(body: &Body) -> Option<Vec<f64>> {
-    let (nl, ns) = (body.nl(), body.nbstat.min(body.nl()));
+fn stif_radioss(k_l: &DMatrix<f64>, nbstat: usize) -> Option<Vec<f64>> {
+    let (nl, ns) = (k_l.nrows(), nbstat.min(k_l.nrows()));
     let mut v = Vec::new();
     for r in 0..ns {
-        v.extend((r..nl).map(|c| body.k_l[(r, c)]));
+        v.extend((r..nl).map(|c| k_l[(r, c)]));
     }
-    v.extend((ns..nl).map(|r| body.k_l[(r, r)]));
+    v.extend((ns..nl).map(|r| k_l[(r, r)]));
     let back = k_l_from_radioss(&v, nl, ns);
     let same = back
         .iter()
-        .zip(body.k_l.iter())
+        .zip(k_l.iter())
         .all(|(a, b)| a.to_bits() == b.to_bits());
     same.then_some(v)
 }
 
-/// The symmetric K_L from its `.fxb` storage (as [`Body::assemble`] builds it).
+/// The symmetric K_L from its `.fxb` storage (as [`Body::from_fxb`] builds it).
 fn k_l_from_radioss(v: &[f64], nl: usize, ns: usize) -> DMatrix<f64> {
     let mut k = DMatrix::zeros(nl, nl);
     let mut i = 0;

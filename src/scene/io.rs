@@ -127,12 +127,12 @@ pub fn make_scene(
     opts: &SceneOptions,
     body_name: &str,
 ) -> Result<Scene, SceneError> {
-    if opts.method == Some(crate::solver::Method::Exact) && !body.iblo {
+    if opts.method == Some(crate::solver::Method::Exact) && !body.is_blocked() {
         return Err(SceneError::ExactOnFree {
             body: body_name.to_string(),
         });
     }
-    if opts.interface.model_exchange() && !body.iblo {
+    if opts.interface.model_exchange() && !body.is_blocked() {
         return Err(SceneError::ModelExchangeOnFree {
             body: body_name.to_string(),
             interface: opts.interface.name(),
@@ -271,7 +271,8 @@ pub fn load_resources(dir: &Path) -> Result<Resources, ResourceError> {
 #[cfg(test)]
 pub(crate) fn cantilever_tip_scene() -> Scene {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    let body = crate::body::load(&root.join("fixtures/cantilever.fxb")).unwrap();
+    let body =
+        crate::body::load(&root.join("fixtures/cantilever.fxb"), Default::default()).unwrap();
     let xyz = HashMap::from([(121, [1.0, 0.0, 0.0])]);
     let opts = SceneOptions {
         name: "t".into(),

@@ -208,7 +208,7 @@ pub fn select_nodes(body: &Body, nodes: &[usize]) -> Body {
         node_ids: nodes.iter().map(|&n| body.node_ids[n]).collect(),
         nbstat: body.nbstat,
         irot: body.irot,
-        iblo: body.iblo,
+        support: body.support,
         ifile: body.ifile,
         p0: body.p0,
         freq_file: body.freq_file,
@@ -227,7 +227,7 @@ pub fn select_nodes(body: &Body, nodes: &[usize]) -> Body {
 }
 
 /// The file blocks of a body, in the storage orders of FORMULATION.md section 1, for
-/// [`crate::fxb::write`]. The inverse of [`Body::assemble`].
+/// [`crate::fxb::write`]. The inverse of [`Body::from_fxb`].
 pub fn to_fxb(body: &Body) -> FxbFile {
     let n = body.nnodes();
     let nl = body.nl();
@@ -249,7 +249,7 @@ pub fn to_fxb(body: &Body) -> FxbFile {
         .map(|ij| body.m_r[ij])
         .collect();
     let sub = |blocks: &[DMatrix<f64>]| -> Vec<f64> {
-        if body.iblo || nl == 0 {
+        if body.is_blocked() || nl == 0 {
             return Vec::new();
         }
         blocks
@@ -264,7 +264,7 @@ pub fn to_fxb(body: &Body) -> FxbFile {
         nbnod: n,
         irot: body.irot,
         idamp: body.damping.is_some(),
-        iblo: body.iblo,
+        iblo: body.is_blocked(),
         ifile: body.ifile,
         node_ids: body.node_ids.clone(),
         p0: [
@@ -280,7 +280,7 @@ pub fn to_fxb(body: &Body) -> FxbFile {
         ],
         freq: body.freq_file,
         damping: body.damping.map(|d| (d.alpha, d.beta)),
-        rigid_modes: if body.iblo {
+        rigid_modes: if body.is_blocked() {
             Vec::new()
         } else {
             modes(&body.phi_r)

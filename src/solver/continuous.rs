@@ -59,10 +59,10 @@ pub fn check_states(x: &[f64], n: usize) -> Result<(), SolverError> {
         });
     }
     if let Some(i) = x.iter().position(|v| !v.is_finite()) {
-        return Err(SolverError::BadInput(format!(
-            "continuous state {i} is not finite ({})",
-            x[i]
-        )));
+        return Err(SolverError::BadInput(super::BadInput::ContinuousState {
+            index: i,
+            value: x[i],
+        }));
     }
     Ok(())
 }

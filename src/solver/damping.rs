@@ -47,10 +47,7 @@ impl LocalDamping {
     /// (a negative ratio would feed energy in).
     pub fn new(body: &Body, zeta: f64) -> Result<LocalDamping, SolverError> {
         if !(zeta.is_finite() && zeta >= 0.0) {
-            return Err(SolverError::BadInput(format!(
-                "damping ratio must be finite and >= 0, got {}",
-                crate::num::num(zeta)
-            )));
+            return Err(SolverError::BadInput(super::BadInput::DampingRatio(zeta)));
         }
         let (alpha, beta) = body.damping.map_or((0.0, 0.0), |r| (r.alpha, r.beta));
         Ok(LocalDamping { alpha, beta, zeta })
@@ -124,13 +121,7 @@ pub fn check_explicit_step(dt: f64, zeta: f64) -> Result<(), SolverError> {
     }
     Err(SolverError::Unsupported {
         method: super::Method::Explicit,
-        why: format!(
-            "its stable step with damping.ratio {} is {} s, below any usable step (the \
-             lagged damping shortens it as 2 / (damping coefficient)): use the exact or \
-             implicit method (blocked bodies) or split (free bodies), which take any step",
-            crate::num::num(zeta),
-            crate::num::num(dt)
-        ),
+        why: super::Unsupported::DampedStep { zeta, step: dt },
     })
 }
 

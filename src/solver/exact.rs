@@ -157,10 +157,7 @@ impl Exact {
             self.coef_h[slot] = f64::NAN;
             return Err(SolverError::Unsupported {
                 method: Method::Exact,
-                why: format!(
-                    "a step of {} s overflows the modal transition (omega h is not finite)",
-                    crate::num::num(h)
-                ),
+                why: super::Unsupported::TransitionOverflow(h),
             });
         }
         self.growth[slot] = self.growth_of(slot);

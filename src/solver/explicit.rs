@@ -80,10 +80,7 @@ impl Explicit {
         if !(opts.dt_factor > 0.0 && opts.dt_factor <= 1.0) {
             return Err(SolverError::Unsupported {
                 method: Method::Explicit,
-                why: format!(
-                    "dt_factor must lie in (0, 1], got {}",
-                    crate::num::num(opts.dt_factor)
-                ),
+                why: super::Unsupported::DtFactor(opts.dt_factor),
             });
         }
         let body = &scene.body;
@@ -286,7 +283,7 @@ impl Solver for Explicit {
     fn set_state(&mut self, state: &State) -> Result<(), SolverError> {
         check_state(state, Method::Explicit, self.state_len())?;
         if state.data[1 + self.io.saved_len()] < 0.0 {
-            return Err(SolverError::BadState("negative last step size".into()));
+            return Err(SolverError::BadState(super::BadState::NegativeStep));
         }
         let parts = &mut [
             std::slice::from_mut(&mut self.dt1),

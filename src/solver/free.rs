@@ -271,30 +271,15 @@ impl FreeScene {
     /// modal damping ratio, [`super::damping`]).
     pub fn new(scene: &Scene, damping_ratio: f64) -> Result<FreeScene, SolverError> {
         let body = &scene.body;
-        let bad = |why: String| SolverError::Singular(why);
-        if body.iblo {
-            return Err(bad("a blocked body (Iblo=1) is not a free body".into()));
+        // The body's shape (nR = 12 or 15, M_R nR x nR, nine M_C,kl and K_C,kl of
+        // nR x nL, m_L > 0) and its mass (M_R definite on the rigid motions) are what
+        // every Body holds by construction (crate::body::Body); only the support is this
+        // method's to check.
+        if body.is_blocked() {
+            return Err(SolverError::BadInput(crate::solver::BadInput::NotFree));
         }
         let nr = body.nr();
         let nl = body.nl();
-        let want = if body.irot { 15 } else { 12 };
-        if nr != want {
-            return Err(bad(format!("free body needs {want} rigid modes, has {nr}")));
-        }
-        if body.m_r.nrows() != nr || body.m_r.ncols() != nr {
-            return Err(bad(format!("M_R must be {nr}x{nr}")));
-        }
-        if body.m_c.len() != 9 || body.k_c.len() != 9 {
-            return Err(bad("M_C and K_C need nine sub-blocks each".into()));
-        }
-        for m in body.m_c.iter().chain(body.k_c.iter()) {
-            if m.nrows() != nr || m.ncols() != nl {
-                return Err(bad(format!("M_C,kl and K_C,kl must be {nr}x{nl}")));
-            }
-        }
-        if body.m_l.iter().any(|&m| m.is_nan() || m <= 0.0) {
-            return Err(bad("local masses m_L must be > 0".into()));
-        }
         if scene.x0.len() != scene.nodes.len() {
             return Err(SolverError::BadLength {
                 what: "scene x0",
@@ -303,7 +288,10 @@ impl FreeScene {
             });
         }
         if let Some(&n) = scene.nodes.iter().find(|&&n| n >= body.nnodes()) {
-            return Err(bad(format!("exposed node index {n} is not in the body")));
+            return Err(SolverError::BadInput(crate::solver::BadInput::Node {
+                index: n,
+                nodes: body.nnodes(),
+            }));
         }
         let phi_r = scene.exposed_rows(&body.phi_r);
         let phi_l = scene.exposed_rows(&body.phi_l);
@@ -333,12 +321,8 @@ impl FreeScene {
             * 2.0
             * std::f64::consts::PI;
         let damping = super::damping::LocalDamping::new(body, damping_ratio)?;
+        // Positive and finite: the body's translation mass is (checked at construction).
         let mass_scale = (0..12).map(|i| body.m_r[(i, i)].abs()).fold(0.0, f64::max);
-        if mass_scale <= 0.0 || !mass_scale.is_finite() {
-            return Err(bad(
-                "M_R has no positive diagonal: the body has no mass".into()
-            ));
-        }
         let row_major = |a: &DMatrix<f64>| -> Vec<f64> {
             (0..a.nrows())
                 .flat_map(|r| (0..a.ncols()).map(move |c| a[(r, c)]))

@@ -124,10 +124,11 @@ impl Implicit {
         if !(0.0..=1.0).contains(&rho_inf) {
             return Err(SolverError::Unsupported {
                 method: Method::Implicit,
-                why: format!(
-                    "rho_inf must lie in [0, 1], got {}",
-                    crate::num::num(rho_inf)
-                ),
+                why: super::Unsupported::RhoInf {
+                    value: rho_inf,
+                    max: 1.0,
+                    free: false,
+                },
             });
         }
         let body = &scene.body;
@@ -203,15 +204,8 @@ impl Implicit {
         if bad_alpha.is_some() || bad_exact {
             self.cache_h[slot] = f64::NAN;
             let why = match bad_alpha {
-                Some(j) => format!(
-                    "the generalised-alpha effective mass of mode {} is not finite for a step of {} s",
-                    j + 1,
-                    crate::num::num(h)
-                ),
-                None => format!(
-                    "a step of {} s overflows the exact transition of an overdamped mode (omega h is not finite)",
-                    crate::num::num(h)
-                ),
+                Some(mode) => super::Unsupported::EffectiveMass { mode, h },
+                None => super::Unsupported::OverdampedOverflow(h),
             };
             return Err(SolverError::Unsupported {
                 method: Method::Implicit,

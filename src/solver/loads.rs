@@ -20,9 +20,7 @@ pub fn check(what: &'static str, v: &[f64], n: usize) -> Result<(), SolverError>
         });
     }
     if v.iter().any(|x| !x.is_finite()) {
-        return Err(SolverError::BadInput(format!(
-            "{what}: values must be finite"
-        )));
+        return Err(SolverError::BadInput(super::BadInput::NotFinite(what)));
     }
     Ok(())
 }
@@ -161,7 +159,10 @@ mod tests {
             }
         ));
         let e = check("load rates", &[0.0, f64::NAN], 2).unwrap_err();
-        assert!(matches!(e, SolverError::BadInput(_)));
+        assert_eq!(
+            e,
+            SolverError::BadInput(crate::solver::BadInput::NotFinite("load rates"))
+        );
         assert!(
             e.to_string().contains("load rates: values must be finite"),
             "{e}"

@@ -55,10 +55,10 @@ impl Exposed {
             });
         }
         if let Some(&bad) = scene.nodes.iter().find(|&&n| n >= body.nnodes()) {
-            return Err(SolverError::BadInput(format!(
-                "exposed node index {bad} is outside the body's {} nodes",
-                body.nnodes()
-            )));
+            return Err(SolverError::BadInput(super::BadInput::Node {
+                index: bad,
+                nodes: body.nnodes(),
+            }));
         }
         let nb = basis.ncols();
         let rows = scene.exposed_rows(&body.phi_l) * basis;
@@ -239,21 +239,19 @@ pub fn check_state(
     expected: usize,
 ) -> Result<(), SolverError> {
     if state.method != method {
-        return Err(SolverError::BadState(format!(
-            "saved by method {:?}, this solver runs {:?}",
-            state.method, method
-        )));
+        return Err(SolverError::BadState(super::BadState::Method {
+            saved: state.method,
+            runs: method,
+        }));
     }
     if state.data.len() != expected {
-        return Err(SolverError::BadState(format!(
-            "expected {expected} numbers for this scene and method, got {}",
-            state.data.len()
-        )));
+        return Err(SolverError::BadState(super::BadState::Length {
+            expected,
+            found: state.data.len(),
+        }));
     }
     if state.data.iter().any(|x| !x.is_finite()) {
-        return Err(SolverError::BadState(
-            "state holds a non-finite number".into(),
-        ));
+        return Err(SolverError::BadState(super::BadState::NotFinite));
     }
     Ok(())
 }

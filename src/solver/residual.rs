@@ -45,23 +45,19 @@ impl Residual {
             .as_ref()
             .map_or_else(|| DMatrix::zeros(6 * m, 6 * m), |res| res.r.clone());
         if r.nrows() != 6 * m || r.ncols() != 6 * m {
-            return Err(SolverError::BadInput(format!(
-                "residual flexibility is {}x{}, the scene exposes {m} nodes (expected {}x{})",
-                r.nrows(),
-                r.ncols(),
-                6 * m,
-                6 * m
-            )));
+            return Err(SolverError::BadInput(super::BadInput::ResidualShape {
+                rows: r.nrows(),
+                cols: r.ncols(),
+                nodes: m,
+            }));
         }
         if r.iter().any(|v| !v.is_finite()) {
-            return Err(SolverError::BadInput(
-                "residual flexibility has non-finite values".into(),
-            ));
+            return Err(SolverError::BadInput(super::BadInput::ResidualNotFinite));
         }
         Ok(Residual {
             inner,
             r,
-            p_fixed: scene.body.iblo.then_some(scene.body.p0),
+            p_fixed: scene.body.is_blocked().then_some(scene.body.p0),
             held: Loads::new(6 * m),
             checkpoint_held: Loads::new(6 * m),
             mark: Mark::default(),
@@ -221,10 +217,10 @@ impl Solver for Residual {
     fn set_state(&mut self, state: &State) -> Result<(), SolverError> {
         let tail = self.held.state_len();
         if state.data.len() < tail {
-            return Err(SolverError::BadState(format!(
-                "{} values, a truncated solver's state has at least {tail}",
-                state.data.len()
-            )));
+            return Err(SolverError::BadState(super::BadState::TooShort {
+                found: state.data.len(),
+                min: tail,
+            }));
         }
         let (head, rest) = state.data.split_at(state.data.len() - tail);
         let inner = State {

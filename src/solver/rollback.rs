@@ -73,7 +73,7 @@ impl Mark {
 
 /// The refusal of [`Solver::rewind`] without a checkpoint.
 pub(crate) fn no_checkpoint() -> SolverError {
-    SolverError::BadState("no checkpoint to go back to: take one before the step".into())
+    SolverError::BadState(super::BadState::NoCheckpoint)
 }
 
 /// A method with a [`Rollback`]: how it writes its complete state.

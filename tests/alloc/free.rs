@@ -73,7 +73,7 @@ fn halving_does_not_allocate() {
     use fxbody::solver::Solver;
     use fxbody::solver::free::Explicit;
     let root = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures");
-    let body = load_body(&root.join("freefree.fxb")).unwrap();
+    let body = load_body(&root.join("freefree.fxb"), Default::default()).unwrap();
     let xyz = to_map(&read_coords(&root.join("freefree.nodes.rad")).unwrap());
     let k = body.node_index(511).unwrap();
     let mut sc = Scene::new(std::sync::Arc::new(body), vec![k], vec![xyz[&511]]);

@@ -30,7 +30,7 @@ fn model_exchange_evaluations_do_not_allocate() {
 pub(crate) fn evaluations_do_not_allocate(scenes: [Scene; 2], method: i32) -> usize {
     let mut changed = 0;
     for scene in scenes {
-        let blocked = scene.body.iblo;
+        let blocked = scene.body.is_blocked();
         let mut m = Simulation::new(scene.clone(), "alloc-me".into());
         if blocked {
             m.table = m.table.clone().with_states(&scene);

@@ -70,7 +70,7 @@ pub fn fixture(name: &str) -> PathBuf {
 /// The body of fixture `name` exposing the nodes `ids` (node IDs), at the coordinates of
 /// its `/NODE` deck.
 pub fn fixture_scene(name: &str, ids: &[i64]) -> Scene {
-    let body = load_body(&fixture(&format!("{name}.fxb"))).unwrap();
+    let body = load_body(&fixture(&format!("{name}.fxb")), Default::default()).unwrap();
     let xyz = coords::to_map(&coords::read_coords(&fixture(&format!("{name}.nodes.rad"))).unwrap());
     let nodes = ids.iter().map(|id| body.node_index(*id).unwrap()).collect();
     let x0 = ids.iter().map(|id| xyz[id]).collect();

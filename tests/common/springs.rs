@@ -25,7 +25,8 @@ pub struct SpringBody {
 
 impl SpringBody {
     pub fn body(&self) -> Arc<Body> {
-        Arc::new(Body::assemble(&self.file))
+        // Through the validated constructor: a generated body passes every check.
+        Arc::new(Body::from_fxb(&self.file, "spring body").unwrap_or_else(|e| panic!("{e}")))
     }
 
     /// A scene exposing every node.

@@ -46,7 +46,7 @@ struct Info {
 /// truncated body's can be stiffer than its local modes). Falls back to the local
 /// modes' value when the solver refuses the body (the solver says why when it is used).
 fn explicit_stable_step(body: &Arc<Body>) -> f64 {
-    if body.iblo || body.node_ids.is_empty() {
+    if body.is_blocked() || body.node_ids().is_empty() {
         return body.explicit_stable_step();
     }
     // The body shared, not copied: a large body's modes are tens of MB.
@@ -60,9 +60,12 @@ fn explicit_stable_step(body: &Arc<Body>) -> f64 {
 /// Run `info`: the report on stdout, or the error message (for exit code 2).
 pub fn run(args: &InfoArgs) -> Result<(), String> {
     let progress = super::progress::Progress::start("checking");
-    let body =
-        fxbody::body::load_reporting(&args.file, &mut |done, total| progress.update(done, total))
-            .map_err(|e| not_a_body(&args.file).unwrap_or_else(|| e.to_string()))?;
+    let how = fxbody::body::LoadOptions {
+        progress: Some(&mut |done, total| progress.update(done, total)),
+        ..Default::default()
+    };
+    let body = fxbody::body::load(&args.file, how)
+        .map_err(|e| not_a_body(&args.file).unwrap_or_else(|| e.to_string()))?;
     let body = Arc::new(body);
     // The node list is checked before anything is printed.
     let modes = match &args.nodes {
@@ -77,7 +80,7 @@ pub fn run(args: &InfoArgs) -> Result<(), String> {
         props: mass_properties(&body),
         modes,
         nbmod: body.nl(),
-        idamp: body.damping.is_some(),
+        idamp: body.damping().is_some(),
         freq_max_hz: body.freq_max_hz(),
         // The step the explicit solvers really use: from the largest computed frequency
         // (the stored Freq is printed beside it, and may be wrong), and for a free body
@@ -158,27 +161,27 @@ fn json(i: &Info) -> String {
     let flag = |x: bool| u8::from(x);
     let mut o = String::from("{\n");
     let _ = writeln!(o, "  \"nbmod\": {},", i.nbmod);
-    let _ = writeln!(o, "  \"nbstat\": {},", b.nbstat);
+    let _ = writeln!(o, "  \"nbstat\": {},", b.nbstat());
     let _ = writeln!(o, "  \"nbnod\": {},", b.nnodes());
-    let _ = writeln!(o, "  \"irot\": {},", flag(b.irot));
+    let _ = writeln!(o, "  \"irot\": {},", flag(b.irot()));
     let _ = writeln!(o, "  \"idamp\": {},", flag(i.idamp));
-    let _ = writeln!(o, "  \"iblo\": {},", flag(b.iblo));
-    let _ = writeln!(o, "  \"ifile\": {},", flag(b.ifile));
+    let _ = writeln!(o, "  \"iblo\": {},", flag(b.is_blocked()));
+    let _ = writeln!(o, "  \"ifile\": {},", flag(b.ifile()));
     let _ = writeln!(
         o,
         "  \"node_ids\": {},",
-        list(&b.node_ids, |v| v.to_string())
+        list(b.node_ids(), |v| v.to_string())
     );
-    let _ = writeln!(o, "  \"freq_file_hz\": {},", num(b.freq_file));
+    let _ = writeln!(o, "  \"freq_file_hz\": {},", num(b.freq_file()));
     let _ = writeln!(o, "  \"freq_max_hz\": {},", num(i.freq_max_hz));
     let _ = writeln!(
         o,
         "  \"frequencies_hz\": {},",
-        list(&b.frequencies_hz, |v| num(*v))
+        list(b.frequencies_hz(), |v| num(*v))
     );
     let _ = writeln!(o, "  \"dt_stab_s\": {},", num(i.dt_stab_s));
     let _ = writeln!(o, "  \"mass\": {},", i.mass.map_or("null".into(), num));
-    let (alpha, beta) = b.damping.map_or(("null".into(), "null".into()), |d| {
+    let (alpha, beta) = b.damping().map_or(("null".into(), "null".into()), |d| {
         (num(d.alpha), num(d.beta))
     });
     let _ = writeln!(o, "  \"rayleigh_alpha\": {alpha},");
@@ -198,7 +201,7 @@ fn json(i: &Info) -> String {
     if let Some(m) = &i.modes {
         let _ = writeln!(o, "  \"modes\": {},", m.trim_end());
     }
-    let _ = writeln!(o, "  \"warnings\": {}", list(&b.warnings, |w| json_str(w)));
+    let _ = writeln!(o, "  \"warnings\": {}", list(b.warnings(), |w| json_str(w)));
     o.push_str("}\n");
     o
 }
@@ -212,31 +215,31 @@ fn text(i: &Info, path: &std::path::Path) -> String {
         o,
         "Nbmod {}  Nbstat {}  Nbnod {}  Irot {}  Idamp {}  Iblo {}  Ifile {} (no effect)",
         i.nbmod,
-        b.nbstat,
+        b.nbstat(),
         b.nnodes(),
-        flag(b.irot),
+        flag(b.irot()),
         flag(i.idamp),
-        flag(b.iblo),
-        flag(b.ifile)
+        flag(b.is_blocked()),
+        flag(b.ifile())
     );
     let _ = writeln!(
         o,
         "body: {}",
-        if b.iblo {
+        if b.is_blocked() {
             "blocked (no rigid motion)"
         } else {
             "free"
         }
     );
-    let _ = writeln!(o, "node IDs: {}", abbreviated_ids(&b.node_ids));
-    if !b.iblo {
+    let _ = writeln!(o, "node IDs: {}", abbreviated_ids(b.node_ids()));
+    if !b.is_blocked() {
         o.push_str(
             "node positions: fixed relative to the frame origin L0 by the rigid modes; \
              `pack` without --coords puts L0 at (0, 0, 0), a --coords file only places L0\n",
         );
     }
     o.push_str("eigenfrequencies of (K_L, m_L), Hz:");
-    for (k, v) in b.frequencies_hz.iter().enumerate() {
+    for (k, v) in b.frequencies_hz().iter().enumerate() {
         if k % 8 == 0 {
             o.push_str("\n ");
         }
@@ -246,10 +249,10 @@ fn text(i: &Info, path: &std::path::Path) -> String {
     let _ = writeln!(
         o,
         "stored Freq: {} Hz, largest computed: {} Hz",
-        significant(b.freq_file, 10),
+        significant(b.freq_file(), 10),
         significant(i.freq_max_hz, 10)
     );
-    if let Some(d) = b.damping {
+    if let Some(d) = b.damping() {
         let _ = writeln!(
             o,
             "Rayleigh damping: alpha {} 1/s, beta {} s",
@@ -292,10 +295,10 @@ fn text(i: &Info, path: &std::path::Path) -> String {
             let _ = writeln!(o, "  {}", v(&row));
         }
     }
-    if b.warnings.is_empty() {
+    if b.warnings().is_empty() {
         o.push_str("warnings: none\n");
     }
-    for w in &b.warnings {
+    for w in b.warnings() {
         let _ = writeln!(o, "warning: {w}");
     }
     if let Some(m) = &i.modes {

@@ -35,10 +35,10 @@ pub fn report(body: &Body, nodes: &[usize], json: bool) -> String {
     let cols: Vec<usize> = (0..6 * nodes.len())
         .filter(|&c| p.deflection[c] > 0.0)
         .collect();
-    let name = |c: usize| format!("{}:{}", body.node_ids[nodes[c / 6]], DIRS[c % 6]);
+    let name = |c: usize| format!("{}:{}", body.node_ids()[nodes[c / 6]], DIRS[c % 6]);
     let mut cum = vec![0.0; 6 * nodes.len()];
     let mut o = String::new();
-    let share_key = if body.iblo {
+    let share_key = if body.is_blocked() {
         "cumulative_static_share"
     } else {
         "cumulative_local_share"
@@ -114,7 +114,7 @@ pub fn report(body: &Body, nodes: &[usize], json: bool) -> String {
 fn heading(body: &Body, with_mass: bool) -> String {
     let tail = "; truncating after a mode without static correction loses 100% minus that \
                 share\n";
-    if body.iblo {
+    if body.is_blocked() {
         return format!(
             "\nper mode: cumulative share of the static deflection (unit load at the node \
              and direction, global frame at P0) carried by the modes up to this one{tail}"

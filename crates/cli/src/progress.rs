@@ -1,7 +1,7 @@
 //! A progress bar on stderr while a body file is read and packed: drawn only when stderr
 //! is a terminal and the work has already taken a second, so that a quick command, a
 //! pipe or a log file sees nothing of it. The library tells how far reading has come
-//! through a callback (`fxbody::body::load_reporting`); this module only draws.
+//! through a callback (`fxbody::body::LoadOptions::progress`); this module only draws.
 
 use std::io::IsTerminal;
 use std::sync::mpsc::{self, RecvTimeoutError, Sender};

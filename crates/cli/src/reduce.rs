@@ -29,9 +29,9 @@ pub struct ReduceArgs {
 
 /// Run `reduce`: write the file and a summary on stdout, or the error message.
 pub fn run(args: &ReduceArgs) -> Result<(), String> {
-    let body = fxbody::body::load(&args.file)
+    let body = fxbody::body::load(&args.file, Default::default())
         .map_err(|e| crate::info::not_a_body(&args.file).unwrap_or_else(|| e.to_string()))?;
-    for w in &body.warnings {
+    for w in body.warnings() {
         eprintln!("warning: {w}");
     }
     let input_nodes = body.nnodes();
@@ -69,7 +69,7 @@ pub fn run(args: &ReduceArgs) -> Result<(), String> {
         args.output.display(),
         count(reduced.nnodes(), "node"),
         count(reduced.nl(), "local mode"),
-        reduced.freq_file,
+        reduced.freq_file(),
         text.len(),
         count(input_nodes, "node")
     );
@@ -85,7 +85,7 @@ pub fn run(args: &ReduceArgs) -> Result<(), String> {
             let d: Vec<String> = (0..6)
                 .map(|c| format!("{:.6e}", r.r[(6 * k + c, 6 * k + c)]))
                 .collect();
-            let _ = writeln!(o, "  node {}: {}", body.node_ids[n], d.join(" "));
+            let _ = writeln!(o, "  node {}: {}", body.node_ids()[n], d.join(" "));
         }
     }
     print!("{o}");

@@ -71,7 +71,7 @@ pub fn measure(
     let sc = Scene::new(Arc::clone(&scene.body), nodes, x0);
     let m = sc.nodes.len();
     let nl = sc.body.nl();
-    let proj = sc.exposed_rows(&sc.body.phi_l);
+    let proj = sc.exposed_rows(sc.body.phi_l());
     let outm = DMatrix::from_fn(3 * m, nl, |r, j| proj[(6 * (r / 3) + r % 3, j)]);
     let loads: Vec<f64> = (0..6 * m).map(|i| 1e-3 * (i as f64 + 1.0)).collect();
     let lv = DVector::from_vec(loads.clone());

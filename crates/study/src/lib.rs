@@ -85,7 +85,7 @@ fn build_cases(args: &StudyArgs) -> Result<Vec<Case>, String> {
         .and_then(|p| p.get("xy"))
         .and_then(scenes::nums)
         .and_then(|v| v.first().copied())
-        .unwrap_or(cant.body.frequencies_hz[0]);
+        .unwrap_or(cant.body.frequencies_hz()[0]);
     cases.push(Case {
         name: format!("cantilever chirp 0-{:.0} Hz", 5.0 * f_loaded),
         scene: cant.clone(),
@@ -158,7 +158,7 @@ fn fine_references(
         let grid = case.steps[0];
         let sub = 8;
         let h = grid / sub as f64;
-        let (main, check) = if case.scene.body.iblo {
+        let (main, check) = if case.scene.body.is_blocked() {
             (&vs[0], &vs[1])
         } else {
             (&vs[1], &vs[3])
@@ -367,7 +367,7 @@ pub fn run(args: &StudyArgs) -> Result<(), String> {
     eprintln!("mode-count sweep");
     let f1 = match cases[2].load {
         Load::Chirp { f1, .. } => f1 / 5.0,
-        _ => cases[0].scene.body.frequencies_hz[0],
+        _ => cases[0].scene.body.frequencies_hz()[0],
     };
     let mode_h = 2e-4;
     let mrows = modes::sweep(
@@ -428,7 +428,7 @@ pub fn run(args: &StudyArgs) -> Result<(), String> {
     let all: Vec<usize> = (0..cant.body.nnodes()).collect();
     let all_x0: Vec<[f64; 3]> = cant
         .body
-        .node_ids
+        .node_ids()
         .iter()
         .map(|id| xyz.get(id).copied().unwrap_or([0.0; 3]))
         .collect();
@@ -642,7 +642,7 @@ fn spin_map(args: &StudyArgs) -> Result<(), String> {
     ] {
         let (scene, _) = fixture(&args.fixtures, name)?;
         let dt = stability::dt_fx(&scene);
-        let p0 = scene.body.p0;
+        let p0 = scene.body.p0();
         let axis = match axis_name {
             "e1" => [p0[(0, 0)], p0[(1, 0)], p0[(2, 0)]],
             "e3" => [p0[(0, 2)], p0[(1, 2)], p0[(2, 2)]],

@@ -62,7 +62,7 @@ pub fn sweep(
                 }
                 None => ("all".to_string(), f64::INFINITY),
             };
-            let kept = c.scene.body.frequencies_hz.len();
+            let kept = c.scene.body.frequencies_hz().len();
             for v in variants {
                 let p = run::measure(&c, v, h, min_time);
                 eprintln!(

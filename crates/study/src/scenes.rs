@@ -30,8 +30,8 @@ impl Variant {
     /// ones only, the others on both.
     pub fn offered(&self, scene: &Scene) -> bool {
         match self.method {
-            Method::Exact => scene.body.iblo,
-            Method::Split => !scene.body.iblo,
+            Method::Exact => scene.body.is_blocked(),
+            Method::Split => !scene.body.is_blocked(),
             _ => true,
         }
     }
@@ -167,7 +167,7 @@ pub struct Case {
 /// A fixture body with its tip node exposed, and its parsed reference file.
 pub fn fixture(dir: &Path, name: &str) -> Result<(Scene, Json), String> {
     let fxb = dir.join(format!("{name}.fxb"));
-    let body = load_body(&fxb).map_err(|e| e.to_string())?;
+    let body = load_body(&fxb, Default::default()).map_err(|e| e.to_string())?;
     let refp = dir.join(format!("{name}.ref.json"));
     let text =
         fxbody::fxb::input::read_input("--fixtures", &refp, fxbody::fxb::input::Limit::Reference)

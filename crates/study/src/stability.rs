@@ -23,8 +23,8 @@ pub const MAX_RATIO: f64 = 1e4;
 
 /// The body's dt_fx (FORMULATION.md section 4).
 pub fn dt_fx(scene: &Scene) -> f64 {
-    let fmax = scene.body.frequencies_hz.last().copied().unwrap_or(0.0);
-    let beta = scene.body.damping.map_or(0.0, |r| r.beta);
+    let fmax = scene.body.frequencies_hz().last().copied().unwrap_or(0.0);
+    let beta = scene.body.damping().map_or(0.0, |r| r.beta);
     stable_step(fmax, beta)
 }
 

@@ -42,7 +42,7 @@ fn cantilever_tip(fmax: Option<f64>) -> (Scene, Value) {
         serde_json::from_str(&std::fs::read_to_string(dir.join("cantilever.ref.json")).unwrap())
             .unwrap();
     let tip = reference["tip_node"].as_i64().unwrap();
-    let body = fxbody::body::load(&dir.join("cantilever.fxb")).unwrap();
+    let body = fxbody::body::load(&dir.join("cantilever.fxb"), Default::default()).unwrap();
     let deck = fxbody::fxb::coords::read_coords(&dir.join("cantilever.nodes.rad")).unwrap();
     let x = deck.iter().find(|(id, _)| *id == tip).unwrap().1;
     let k = body.node_index(tip).unwrap();

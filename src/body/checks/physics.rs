@@ -79,6 +79,17 @@ impl Places {
         rigid_modes: "section PHIR (rigid-mode rows of the exposed nodes)",
         rigid_mass: "section MRIG (rigid mass M_R)",
     };
+    /// The parts of a body given to [`crate::body::Body::from_parts`].
+    pub const PARTS: Places = Places {
+        frame: "P0 and Freq",
+        damping: "the Rayleigh damping",
+        mass: "the local mass m_L",
+        stiffness: "the local stiffness K_L",
+        mass_stiffness: "m_L and K_L",
+        modes: "m_L, K_L and their modes",
+        rigid_modes: "the rigid modes",
+        rigid_mass: "the rigid mass M_R",
+    };
 }
 
 /// Rayleigh coefficients: >= 0 (a negative one feeds energy in).

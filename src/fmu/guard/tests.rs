@@ -191,7 +191,8 @@ fn a_state_below_the_bound_gives_finite_outputs_whatever_the_parameters() {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
     let blocked = crate::scene::io::cantilever_tip_scene();
     let free = {
-        let body = crate::body::load(&root.join("fixtures/freefree.fxb")).unwrap();
+        let body =
+            crate::body::load(&root.join("fixtures/freefree.fxb"), Default::default()).unwrap();
         let x = body.rigid_mode_positions().unwrap();
         crate::scene::Scene::new(std::sync::Arc::new(body), vec![20], vec![x[20]])
     };
@@ -202,7 +203,7 @@ fn a_state_below_the_bound_gives_finite_outputs_whatever_the_parameters() {
     ] {
         for zeta in [0.0, 1e150, 1e300, f64::MAX] {
             for g in [0.0, 1e300] {
-                if g != 0.0 && scene.body.iblo {
+                if g != 0.0 && scene.body.is_blocked() {
                     continue;
                 }
                 let mut scene = scene.clone();

@@ -54,19 +54,12 @@ impl Simulation {
             self.guard.forget();
             self.loads_dirty = false;
         }
-        let c = s.continuous().ok_or_else(|| {
-            SimulationError::Solver(SolverError::Unsupported {
+        let c = s
+            .continuous()
+            .ok_or(SimulationError::Solver(SolverError::Unsupported {
                 method,
-                why: format!(
-                    "Model Exchange integrates the {} method's equations only where they \
-                     are a first-order system of the body alone: use method {} (exact) \
-                     for a blocked body, {} (split) for a free one",
-                    crate::fmu::vars::method_name(method),
-                    Method::Exact as i32,
-                    Method::Split as i32
-                ),
-            })
-        })?;
+                why: crate::solver::Unsupported::ModelExchange { method },
+            }))?;
         let n = c.state_count();
         if self.xs.len() != n {
             // Once, when the form is first asked for: the reads below then allocate
@@ -238,7 +231,7 @@ impl Simulation {
         if !self.jacobian(&mut a, &mut b)? {
             return Err(SimulationError::Solver(SolverError::Unsupported {
                 method: self.solver_method(),
-                why: "no exact Jacobian".into(),
+                why: crate::solver::Unsupported::NoJacobian,
             }));
         }
         for (o, row) in out.iter_mut().zip(&rows) {

@@ -92,10 +92,11 @@ impl Simulation {
     fn refuse_non_finite(&mut self, t: f64, h: f64, what: String) -> SimulationError {
         let cause = SolverError::NonFinite {
             what,
-            cause: format!(
-                "largest input: {}",
-                largest_input(&self.table, &self.loads, &self.rates)
-            ),
+            cause: crate::solver::Overflow::LargestInput(largest_input(
+                &self.table,
+                &self.loads,
+                &self.rates,
+            )),
         };
         let restored = match self.solver.as_mut() {
             Some(s) => self.guard.rollback(s.as_mut()),

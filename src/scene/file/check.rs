@@ -1,9 +1,9 @@
 //! The physical checks of a scene read back from its file, beyond the format: a scene
 //! file whose checksum holds may still have been edited (and its checksum recomputed),
 //! or written by something else than `pack`. fmi2Instantiate runs on it what `pack` runs
-//! on a body: the body's own checks ([`crate::body::check_scene_body`], the same
-//! functions the `.fxb` load runs, with the stored modes checked against K_L and m_L
-//! instead of solved again), the placement of a free body's nodes against its rigid
+//! on a body: the body's own checks (run as the reader builds the body,
+//! [`crate::body::check_scene_body`]: the same functions the `.fxb` load runs, with the
+//! stored modes checked against K_L and m_L instead of solved again), the placement of a free body's nodes against its rigid
 //! modes ([`crate::body::placement::check_coords`], as `pack --coords` does), at least
 //! one exposed node (as `pack` requires), and a residual flexibility that is a
 //! flexibility: symmetric, positive semi-definite, and not absurdly larger than the kept
@@ -46,10 +46,8 @@ pub(super) fn check_scene(scene: &Scene, file: &str) -> Result<(), SceneFileErro
                 .into(),
         ));
     }
-    crate::body::check_scene_body(body, file)
-        .map_err(|e| SceneFileError::Physics(e.to_string()))?;
     // Placement needs two nodes: one node alone places L0 and contradicts nothing.
-    if !body.iblo && scene.nodes.len() >= 2 {
+    if !body.is_blocked() && scene.nodes.len() >= 2 {
         let xyz: HashMap<i64, [f64; 3]> = body
             .node_ids
             .iter()

@@ -10,7 +10,7 @@ use super::{
     BODY_WORDS, BYTE_ORDER_MARK, HEADER_LEN, MAGIC, SECTION_HEADER_LEN, SECTIONS, STIF_DENSE,
     STIF_RADIOSS, SceneFileError, Stored, VERSION, k_l_from_radioss,
 };
-use crate::body::{Body, Modal, Rayleigh};
+use crate::body::{Body, BodyParts, Modal, Places, Rayleigh, Support};
 use crate::fmu::hash::fnv1a64_words;
 use crate::scene::Scene;
 use crate::scene::reduce::Residual;
@@ -150,11 +150,23 @@ pub fn from_bytes(bytes: &[u8], file: &str) -> Result<Stored, SceneFileError> {
         shapes,
         ascending,
     };
-    let body = Body {
+    let support = Support::from_iblo(bit(1));
+    if nr != support.rigid_modes(bit(0)) {
+        return Err(r.bad(
+            "BODY",
+            format!(
+                "blocked flag {} and rotation flag {} with {nr} rigid modes: expected {}",
+                u8::from(bit(1)),
+                u8::from(bit(0)),
+                support.rigid_modes(bit(0))
+            ),
+        ));
+    }
+    let parts = BodyParts {
         node_ids,
         nbstat,
         irot: bit(0),
-        iblo: bit(1),
+        support,
         ifile: bit(2),
         p0,
         freq_file,
@@ -166,16 +178,10 @@ pub fn from_bytes(bytes: &[u8], file: &str) -> Result<Stored, SceneFileError> {
         m_r,
         m_c,
         k_c,
-        frequencies_hz: modal.frequencies_hz(),
         modal,
-        warnings: Vec::new(),
     };
-    if bit(1) == (nr != 0) {
-        return Err(r.bad(
-            "BODY",
-            format!("blocked flag {} with {nr} rigid modes", u8::from(bit(1))),
-        ));
-    }
+    let body = Body::from_parts_at(parts, file, &Places::SCENE)
+        .map_err(|e| SceneFileError::Physics(e.to_string()))?;
     let mut scene = Scene::new(Arc::new(body), (0..m).collect(), x0);
     scene.residual = residual;
     super::check::check_scene(&scene, file)?;

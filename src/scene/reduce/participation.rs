@@ -72,7 +72,7 @@ pub fn static_participation(body: &Body, nodes: &[usize]) -> Participation {
 /// in its file). Modes of a free-free body are mass-orthogonal to the rigid motions and
 /// have none; the modes of a supported body carry the mass that moves with them.
 pub fn effective_mass(body: &Body) -> Option<DMatrix<f64>> {
-    if body.iblo || body.nr() < 12 {
+    if body.is_blocked() || body.nr() < 12 {
         return None;
     }
     let basis = ModalBasis::of(body);

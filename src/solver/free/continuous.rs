@@ -29,8 +29,8 @@
 use nalgebra::{Matrix3, Quaternion, Rotation3, UnitQuaternion, Vector3};
 
 use super::Split;
-use crate::solver::SolverError;
 use crate::solver::continuous::{Continuous, check_states};
+use crate::solver::{BadInput, SolverError};
 
 /// The states before the modal ones: X, q, V, omega.
 pub const RIGID_STATES: usize = 13;
@@ -127,10 +127,7 @@ impl Continuous for Split {
         let q = state_quaternion(x);
         let norm = q.norm();
         if !norm.is_finite() || norm <= 1e-3 {
-            return Err(SolverError::BadInput(format!(
-                "the attitude quaternion (continuous states 3..7) has norm {norm}: it must \
-                 be a rotation's, of norm 1"
-            )));
+            return Err(SolverError::BadInput(BadInput::Quaternion(norm)));
         }
         let p = *UnitQuaternion::new_unchecked(q / norm)
             .to_rotation_matrix()

@@ -148,11 +148,11 @@ impl Implicit {
         if !(0.0..=MAX_RHO).contains(&opts.rho_inf) {
             return Err(SolverError::Unsupported {
                 method: Method::Implicit,
-                why: format!(
-                    "rho_inf must be in [0, {MAX_RHO}] for a free body, got {}: the frame \
-                     constraints (index 3) need some damping at infinite frequency",
-                    crate::num::num(opts.rho_inf)
-                ),
+                why: crate::solver::Unsupported::RhoInf {
+                    value: opts.rho_inf,
+                    max: MAX_RHO,
+                    free: true,
+                },
             });
         }
         let m = FreeScene::new(scene, opts.damping_ratio)?;
@@ -344,7 +344,7 @@ impl Implicit {
                         err,
                         h,
                         self.spin_rate(),
-                        "use smaller communication steps",
+                        crate::solver::FrameAdvice::SmallerSteps,
                     ));
                 }
                 return Ok(());

@@ -34,7 +34,6 @@ use super::{
     FreeScene, Loads, MAX_FRAME_ERROR, SINGULAR_RATIO, drag_warning, frame_error, frame_invalid,
     point_offset, singular_error, spin_warning,
 };
-use crate::num::num;
 use crate::scene::Scene;
 use crate::solver::expm::mode_coefficients;
 use crate::solver::nodes::check_state;
@@ -350,7 +349,7 @@ impl Split {
             self.coef_h[slot] = f64::NAN;
             return Err(SolverError::NonFinite {
                 what: "the modal transition".into(),
-                cause: format!("omega h is not finite for the sub-step {} s", num(dt)),
+                cause: crate::solver::Overflow::SubStep(dt),
             });
         }
         self.next_slot = 1 - slot;
@@ -470,14 +469,11 @@ impl Split {
         let mut x = m.origin0 + self.d;
         let spin = Vector3::new(v0[3], v0[4], v0[5]).norm();
         if rigid::midpoint(dt, &mut x, &mut self.p, &mut self.v6, accel).is_none() {
-            return Err(SolverError::Invalid(format!(
-                "the frame's midpoint step did not converge in {} passes over an internal \
-                 step of {} s at spin rate {} rad/s; the step was refused and the state is as \
-                 before it: use smaller communication steps or smaller loads",
-                rigid::MAX_FIXED_POINT,
-                num(dt),
-                num(spin)
-            )));
+            return Err(SolverError::Invalid(crate::solver::Invalid::Midpoint {
+                passes: rigid::MAX_FIXED_POINT,
+                dt,
+                spin,
+            }));
         }
         self.d = x - self.m.origin0;
         if self.m.irot {
@@ -519,11 +515,7 @@ impl Split {
         if !finite {
             return Err(SolverError::NonFinite {
                 what: "the body state".into(),
-                cause: format!(
-                    "a step of {} s with loads or a spin rate ({} rad/s) too large for it",
-                    num(h),
-                    num(spin)
-                ),
+                cause: crate::solver::Overflow::Step { h, spin },
             });
         }
         let err = frame_error(&self.p);
@@ -532,7 +524,7 @@ impl Split {
                 err,
                 h,
                 spin,
-                "use smaller communication steps",
+                crate::solver::FrameAdvice::SmallerSteps,
             ));
         }
         self.refresh()
@@ -623,17 +615,13 @@ fn modal_basis(
     m_eff: DMatrix<f64>,
     k_l: &DMatrix<f64>,
 ) -> Result<(DMatrix<f64>, Vec<f64>), SolverError> {
-    let chol = nalgebra::Cholesky::new(m_eff).ok_or_else(|| {
-        SolverError::Singular(
-            "the local mass with the rigid motion condensed out, diag(m_L) - B M6^-1 B^T, \
-             is not positive definite: M_C and M_R do not belong together"
-                .into(),
-        )
-    })?;
+    let chol = nalgebra::Cholesky::new(m_eff).ok_or(SolverError::Singular(
+        crate::solver::Singular::CondensedMass,
+    ))?;
     let linv = chol
         .l()
         .try_inverse()
-        .ok_or_else(|| SolverError::Singular("the local mass is not invertible".into()))?;
+        .ok_or(SolverError::Singular(crate::solver::Singular::LocalMass))?;
     let a = &linv * k_l * linv.transpose();
     let a = (&a + a.transpose()) * 0.5;
     let se = a.symmetric_eigen();

@@ -8,52 +8,22 @@ use nalgebra::{DMatrix, Matrix3, Matrix6, Vector6};
 
 use super::FreeScene;
 use crate::num::num;
-use crate::solver::{SolverError, SolverWarning};
+use crate::solver::{FrameAdvice, Invalid, Overflow, Singular, SolverError, SolverWarning};
 
 /// Pivot ratio below which a saddle-point matrix counts as singular.
 pub(crate) const SINGULAR_RATIO: f64 = 1e-13;
 
 /// The error for a singular saddle-point system, with what was asked of it: the step
 /// `dt` (0 for the evaluation at build, before any step: its matrix depends on the body
-/// alone) and the frame's spin rate.
-///
-/// At build, with the body at rest, only the body itself can be at fault (nodes on one
-/// line: no inertia about that line). During a run the same body solved fine before, so
-/// the step, spin rate or load is what made the system singular, and the message says so
-/// with the figures instead of blaming the geometry.
+/// alone) and the frame's spin rate ([`Singular::SaddlePoint`] words it by what can be at
+/// fault); NaN pivots or a non-finite spin are an overflow instead.
 pub(crate) fn singular_error(ratio: f64, dt: f64, spin: f64) -> SolverError {
     if ratio.is_nan() || !spin.is_finite() {
         // Not a singular system: its numbers overflowed (NaN pivots), and neither the
         // ratio nor the spin is a figure worth printing.
         return overflow("the rigid-motion saddle-point system");
     }
-    let what = format!(
-        "the rigid-motion saddle-point system is singular (pivot ratio {}, condition \
-         above {})",
-        num(ratio),
-        num(1.0 / ratio)
-    );
-    if dt == 0.0 && spin == 0.0 {
-        return SolverError::Singular(format!(
-            "{what} before any step: a body whose nodes all lie on one line has \
-             no inertia about that line"
-        ));
-    }
-    if dt == 0.0 {
-        return SolverError::Singular(format!(
-            "{what} before any step, at the initial spin rate {} rad/s: the spin is too \
-             large for the frame constraints; start the body with a smaller w0",
-            num(spin)
-        ));
-    }
-    SolverError::Singular(format!(
-        "{what} with the internal step {} s at spin rate {} rad/s (rotation per step {} \
-         rad): the step, spin rate or load is too large for the frame constraints; use a \
-         smaller communication step or smaller loads",
-        num(dt),
-        num(spin),
-        num(spin * dt)
-    ))
+    SolverError::Singular(Singular::SaddlePoint { ratio, dt, spin })
 }
 
 /// Largest `|P^T P - I|` (entry-wise) a step may leave: beyond it the frame is no longer
@@ -99,28 +69,23 @@ pub(crate) fn frame_error(p: &Matrix3<f64>) -> f64 {
 pub(crate) fn overflow(what: &str) -> SolverError {
     SolverError::NonFinite {
         what: what.into(),
-        cause: "its numbers overflow: the loads, gravity, initial velocity or spin rate are \
-                too large for this body"
-            .into(),
+        cause: Overflow::Inputs,
     }
 }
 
 /// The refusal of a step that would leave the frame no longer a rotation, with the
 /// advice that fits the method (`advice`: what the user can change); a frame or spin rate
 /// that overflowed is [`overflow`] instead.
-pub(crate) fn frame_invalid(err: f64, h: f64, spin: f64, advice: &str) -> SolverError {
+pub(crate) fn frame_invalid(err: f64, h: f64, spin: f64, advice: FrameAdvice) -> SolverError {
     if !(err.is_finite() && spin.is_finite()) {
         return overflow("the body frame");
     }
-    SolverError::Invalid(format!(
-        "the step of {} s would leave the body frame no longer a rotation (|P^T P - I| = \
-         {}, more than {}) at spin rate {} rad/s; the step was refused and the state is as \
-         before it: {advice}",
-        num(h),
-        num(err),
-        num(MAX_FRAME_ERROR),
-        num(spin)
-    ))
+    SolverError::Invalid(Invalid::Frame {
+        h,
+        error: err,
+        spin,
+        advice,
+    })
 }
 
 /// Fraction of [`MAX_FRAME_ERROR`] above which the explicit method undoes an internal

@@ -269,7 +269,9 @@ fn info_reports_the_free_explicit_step_the_solver_uses() {
     assert!(out.status.success());
     let f = fields(&String::from_utf8(out.stdout).unwrap());
     let dt: f64 = get(&f, "dt_stab_s").parse().unwrap();
-    let body = std::sync::Arc::new(fxbody::body::load(&root().join("fixtures/truss.fxb")).unwrap());
+    let body = std::sync::Arc::new(
+        fxbody::body::load(&root().join("fixtures/truss.fxb"), Default::default()).unwrap(),
+    );
     let local = body.explicit_stable_step();
     let scene = fxbody::scene::Scene::new(body, vec![0], vec![[0.0; 3]]);
     let solver =

@@ -210,7 +210,8 @@ fn variables_follow_the_interface_names() {
 fn free_body_coordinates_from_rigid_modes_match_the_deck() {
     // Independent reference: the fixture's /NODE deck and its centre of mass (the
     // generator puts L0 there): deck - com must equal P0 (X, Y, Z) from the rigid modes.
-    let body = fxbody::body::load(&root().join("fixtures/freefree.fxb")).unwrap();
+    let body =
+        fxbody::body::load(&root().join("fixtures/freefree.fxb"), Default::default()).unwrap();
     let derived = fxbody::scene::io::coords_from_rigid_modes(&body).unwrap();
     let deck =
         fxbody::fxb::coords::read_coords(&root().join("fixtures/freefree.nodes.rad")).unwrap();
@@ -230,7 +231,8 @@ fn free_body_coordinates_from_rigid_modes_match_the_deck() {
     );
     assert!(
         fxbody::scene::io::coords_from_rigid_modes(
-            &fxbody::body::load(&root().join("fixtures/cantilever.fxb")).unwrap()
+            &fxbody::body::load(&root().join("fixtures/cantilever.fxb"), Default::default())
+                .unwrap()
         )
         .is_none()
     );

@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-use fxbody::body::Body;
+use fxbody::body::{Body, BodyParts};
 use fxbody::fxb::{self, FxbFile};
 
 fn data(name: &str) -> PathBuf {
@@ -35,7 +35,7 @@ fn check_labelled(name: &str, nr: usize, nl: usize, ns: usize, ids: &[i64]) {
         (nl, ns, ids.len(), nr)
     );
     assert_eq!(f.node_ids, ids);
-    let b = Body::assemble(&f);
+    let b = BodyParts::assemble(&f, name).unwrap();
     let n = ids.len();
     for r in 0..3 {
         for c in 0..3 {
@@ -113,7 +113,7 @@ fn check_labelled(name: &str, nr: usize, nl: usize, ns: usize, ids: &[i64]) {
 fn placement_irot_damped_two_static_modes() {
     check_labelled("labels_r1_d1_ns2.fxb", 15, 3, 2, &[101, 102]);
     // The same facts written out by hand for this file (nL = 3, nS = 2).
-    let b = Body::assemble(&read("labels_r1_d1_ns2.fxb"));
+    let b = BodyParts::assemble(&read("labels_r1_d1_ns2.fxb"), "labels_r1_d1_ns2.fxb").unwrap();
     let k = [
         [901.0, 902.0, 903.0],
         [902.0, 904.0, 905.0],
@@ -143,7 +143,7 @@ fn placement_irot_damped_two_static_modes() {
 #[test]
 fn placement_no_rotation_one_static_mode() {
     check_labelled("labels_r0_d0_ns1.fxb", 12, 2, 1, &[5, 6, 7]);
-    let b = Body::assemble(&read("labels_r0_d0_ns1.fxb"));
+    let b = BodyParts::assemble(&read("labels_r0_d0_ns1.fxb"), "labels_r0_d0_ns1.fxb").unwrap();
     assert_eq!(b.k_l[(0, 1)], 902.0);
     assert_eq!(b.k_l[(1, 1)], 801.0);
     assert!(b.damping.is_none());
@@ -171,7 +171,7 @@ fn every_flag_combination() {
                 };
                 assert_eq!(f.nbstat, ns, "{name}");
                 let b = Body::from_fxb(&f, &name).unwrap_or_else(|e| panic!("{e}"));
-                assert!(b.warnings.is_empty(), "{name}: {:?}", b.warnings);
+                assert!(b.warnings().is_empty(), "{name}: {:?}", b.warnings());
                 assert_eq!(
                     b.nr(),
                     if iblo {
@@ -182,7 +182,7 @@ fn every_flag_combination() {
                         12
                     }
                 );
-                for (got, want) in b.frequencies_hz.iter().zip([3.0, 7.0, 12.5]) {
+                for (got, want) in b.frequencies_hz().iter().zip([3.0, 7.0, 12.5]) {
                     assert!((got - want).abs() < 1e-8 * want, "{name}: {got} vs {want}");
                 }
                 match b.total_mass() {
@@ -192,7 +192,7 @@ fn every_flag_combination() {
                     }
                     None => assert!(iblo, "{name}: free body without mass"),
                 }
-                let damping = b.damping.map(|d| (d.alpha, d.beta));
+                let damping = b.damping().map(|d| (d.alpha, d.beta));
                 assert_eq!(damping, idamp.then_some((0.8, 2.0e-4)), "{name}");
                 for k in 0..4 {
                     assert_eq!(b.node_has_rotation(k), irot && k < 2, "{name} node {k}");
@@ -220,14 +220,14 @@ fn fixed_tabs_and_d_exponent_variants_read_the_same_numbers() {
     assert_eq!(fixed.damping, Some((0.5, 1.0e-4)));
     let b = Body::from_fxb(&fixed, "fmt_fixed.fxb").unwrap();
     // Mode 1, node 9 (second node): Y = -12.5 touches the X before it; ZZ = -0.5.
-    assert_eq!(b.phi_l[(6 + 1, 0)], -12.5);
-    assert_eq!(b.phi_l[(6 + 5, 0)], -0.5);
-    assert_eq!(b.phi_l[(6 + 2, 1)], 1.0e-3);
-    assert_eq!(b.phi_l[(6 + 3, 1)], 2.5);
-    assert_eq!(b.phi_l.iter().filter(|v| **v != 0.0).count(), 4);
-    assert_eq!(b.k_l[(0, 1)], -100.0);
-    assert_eq!(b.k_l[(1, 0)], -100.0);
-    assert_eq!((b.k_l[(0, 0)], b.k_l[(1, 1)]), (800.0, 450.0));
+    assert_eq!(b.phi_l()[(6 + 1, 0)], -12.5);
+    assert_eq!(b.phi_l()[(6 + 5, 0)], -0.5);
+    assert_eq!(b.phi_l()[(6 + 2, 1)], 1.0e-3);
+    assert_eq!(b.phi_l()[(6 + 3, 1)], 2.5);
+    assert_eq!(b.phi_l().iter().filter(|v| **v != 0.0).count(), 4);
+    assert_eq!(b.k_l()[(0, 1)], -100.0);
+    assert_eq!(b.k_l()[(1, 0)], -100.0);
+    assert_eq!((b.k_l()[(0, 0)], b.k_l()[(1, 1)]), (800.0, 450.0));
     // det(K - lambda diag(2, 0.5)) = lambda^2 - 1300 lambda + 350000 = 0.
     let two_pi = 2.0 * std::f64::consts::PI;
     let root = 290_000f64.sqrt();
@@ -235,10 +235,10 @@ fn fixed_tabs_and_d_exponent_variants_read_the_same_numbers() {
         ((1300.0 - root) / 2.0).sqrt() / two_pi,
         ((1300.0 + root) / 2.0).sqrt() / two_pi,
     ];
-    for (got, want) in b.frequencies_hz.iter().zip(want) {
+    for (got, want) in b.frequencies_hz().iter().zip(want) {
         assert!((got - want).abs() < 1e-12 * want, "{got} vs {want}");
     }
-    assert!(b.warnings.is_empty());
+    assert!(b.warnings().is_empty());
     assert!(b.node_has_rotation(1) && !b.node_has_rotation(0));
 }
 

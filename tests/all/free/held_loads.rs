@@ -46,7 +46,7 @@ fn a_pulse_gives_its_impulse_on_the_fixture() {
             d(a).total_cmp(&d(b))
         })
         .unwrap();
-    let id = body.node_ids[nearest];
+    let id = body.node_ids()[nearest];
     let f = Vector3::new(0.0, 1.0, 0.5);
     for (method, opts) in methods() {
         for h in [1e-3f64, 1e-4] {

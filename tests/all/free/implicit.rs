@@ -238,25 +238,3 @@ fn restart_and_options() {
     }
     let _ = Explicit::new(&scene, &Options::default()).unwrap();
 }
-
-/// Nodes on one line (Irot = 0): no inertia about the line, a clear error at build.
-#[test]
-fn collinear_body_is_reported() {
-    let x = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [2.5, 0.0, 0.0]];
-    let b = spring_body(
-        &x,
-        &[1.0, 2.0, 1.0],
-        None,
-        &[(0, 1, 100.0), (1, 2, 100.0)],
-        Matrix3::identity(),
-        1,
-        1.0,
-    );
-    match Implicit::new(&b.scene(), &Options::default()) {
-        Err(SolverError::Singular(msg)) => assert!(msg.contains("one line"), "{msg}"),
-        other => panic!(
-            "expected a singular-body error, got {:?}",
-            other.map(|_| ())
-        ),
-    }
-}

@@ -351,8 +351,8 @@ fn irot_rows_mid_step_frame() {
 fn stable_step_from_computed_frequency() {
     let (m, w) = (2.0, 30.0);
     let scene = one_mode_scene(m, m * w * w, None);
-    assert_eq!(scene.body.freq_file, 1.0);
-    let h = 0.9 / (std::f64::consts::PI * scene.body.freq_file);
+    assert_eq!(scene.body.freq_file(), 1.0);
+    let h = 0.9 / (std::f64::consts::PI * scene.body.freq_file());
     let run = |subcycle: bool| {
         let opts = Options {
             subcycle,

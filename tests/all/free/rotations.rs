@@ -23,8 +23,8 @@ fn rigid_spin_gives_w0_and_w0_t_at_every_node() {
     // reaches the modes) and about an axis across it, slowly (0.2 rad/s: the centrifugal
     // stretch of the modes is (w / w1)^2 = 1e-6 of the motion).
     let mut sc = fixture_scene("freefree", &[521, 511]);
-    let axis = sc.body.p0.column(0).into_owned();
-    let across = sc.body.p0.column(1).into_owned();
+    let axis = sc.body.p0().column(0).into_owned();
+    let across = sc.body.p0().column(1).into_owned();
     // Bounds, relative to |w0| and to the final angle, per method (implicit, explicit),
     // about twice what was measured on the fixture with its exact rigid part (M_R from
     // the exact mass properties, which gives the affine frame points part of the small
@@ -39,7 +39,7 @@ fn rigid_spin_gives_w0_and_w0_t_at_every_node() {
     //   constraint drift): 5.7e-12 and 3.7e-11, both methods;
     // - rotation against w0 t (the frame's integration error): implicit 6.4e-7 and
     //   3.3e-9, explicit 1.3e-4 and 3.1e-5.
-    let p0 = sc.body.p0;
+    let p0 = sc.body.p0();
     type Bounds = [[f64; 3]; 2];
     let axial: Bounds = [[5e-9, 1e-9, 1e-5], [5e-4, 1e-9, 3e-4]];
     let transverse: Bounds = [[1.2e-8, 1e-10, 1e-8], [1.3e-4, 1e-10, 6e-5]];
@@ -102,7 +102,7 @@ fn rigid_spin_gives_w0_and_w0_t_at_every_node() {
 #[test]
 fn the_rotation_vector_jumps_at_pi_as_its_description_says() {
     let mut sc = fixture_scene("freefree", &[521]);
-    let axis = sc.body.p0.column(0).into_owned();
+    let axis = sc.body.p0().column(0).into_owned();
     let w0 = axis * 3.0;
     sc.w0 = [w0[0], w0[1], w0[2]];
     let mut s = build(&sc, Method::Split, &Options::default()).unwrap();

@@ -170,21 +170,5 @@ fn invalid_inputs_as_the_other_free_methods() {
         assert_eq!(e.to_string(), im.step(h).unwrap_err().to_string());
     }
     assert_eq!(sp.state(), before, "refused calls leave the state");
-    let x = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [2.5, 0.0, 0.0]];
-    let line = spring_body(
-        &x,
-        &[1.0, 2.0, 1.0],
-        None,
-        &[(0, 1, 100.0), (1, 2, 100.0)],
-        Matrix3::identity(),
-        1,
-        1.0,
-    );
-    match Split::new(&line.scene(), &Options::default()) {
-        Err(SolverError::Singular(msg)) => assert!(msg.contains("one line"), "{msg}"),
-        other => panic!(
-            "expected a singular-body error, got {:?}",
-            other.map(|_| ())
-        ),
-    }
+    // A body on one line is refused where it is built (free::explicit::collinear_body_is_reported).
 }

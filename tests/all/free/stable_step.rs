@@ -20,9 +20,9 @@ fn truncated_truss() -> Scene {
         ..PackRequest::default()
     };
     let all = prepare_with(&req(None), None).unwrap();
-    let ids = &all.scene.body.node_ids;
+    let ids = all.scene.body.node_ids();
     let nodes = vec![ids[ids.len() / 2], ids[ids.len() - 1]];
-    let hz = &all.scene.body.frequencies_hz;
+    let hz = all.scene.body.frequencies_hz();
     let mut scene = prepare_with(&req(Some(nodes)), Some(Fmax::Hz(hz[hz.len() / 2])))
         .unwrap()
         .scene;

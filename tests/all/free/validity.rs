@@ -16,7 +16,7 @@ fn scene(name: &str, node: i64) -> Scene {
 
 /// Column `j` of P0 (local axis j in global components).
 fn axis(sc: &Scene, j: usize) -> Vector3<f64> {
-    sc.body.p0.column(j).into_owned()
+    sc.body.p0().column(j).into_owned()
 }
 
 fn frame_error(s: &dyn Solver) -> f64 {
@@ -26,7 +26,7 @@ fn frame_error(s: &dyn Solver) -> f64 {
 
 /// First local mode's circular frequency (rad/s).
 fn omega1(sc: &Scene) -> f64 {
-    2.0 * std::f64::consts::PI * sc.body.frequencies_hz[0]
+    2.0 * std::f64::consts::PI * sc.body.frequencies_hz()[0]
 }
 
 /// Class 1: a step that needs more internal steps than the budget is refused at once

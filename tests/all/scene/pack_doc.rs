@@ -93,9 +93,9 @@ fn check_page_agrees(p: &Prepared) -> (String, BTreeMap<String, Vec<String>>) {
 
 #[test]
 fn the_page_lists_modes_correction_and_dependencies_as_the_description() {
-    let f1 = load_body(&root().join("fixtures/cantilever.fxb"))
+    let f1 = load_body(&root().join("fixtures/cantilever.fxb"), Default::default())
         .unwrap()
-        .frequencies_hz[0];
+        .frequencies_hz()[0];
     // Untruncated: 20 modes, no correction, no dependency.
     let (summary, deps) = check_page_agrees(&pack(None));
     assert_eq!(summary, "20 local modes, no residual correction");
@@ -116,8 +116,11 @@ fn the_page_lists_modes_correction_and_dependencies_as_the_description() {
 
 #[test]
 fn fmax_below_the_first_mode_warns_and_above_every_mode_keeps_all() {
-    let body = load_body(&root().join("fixtures/cantilever.fxb")).unwrap();
-    let (f1, top) = (body.frequencies_hz[0], *body.frequencies_hz.last().unwrap());
+    let body = load_body(&root().join("fixtures/cantilever.fxb"), Default::default()).unwrap();
+    let (f1, top) = (
+        body.frequencies_hz()[0],
+        *body.frequencies_hz().last().unwrap(),
+    );
     let low = pack(Some(0.5 * f1));
     assert_eq!(low.scene.body.nl(), 0);
     assert!(
@@ -160,8 +163,8 @@ fn numbers_after(s: &str, key: &str, end: &str) -> Vec<f64> {
 /// exposed node and draws the first kept modes, captioned with their frequencies.
 #[test]
 fn the_page_shows_the_stored_freq_and_draws_the_nodes_and_modes() {
-    let full = load_body(&root().join("fixtures/cantilever.fxb")).unwrap();
-    let first = full.frequencies_hz[0];
+    let full = load_body(&root().join("fixtures/cantilever.fxb"), Default::default()).unwrap();
+    let first = full.frequencies_hz()[0];
     let p = pack(Some(1.5 * first));
     let html = index_html(&p.scene, &p.table, &p.options, &p.guid);
     let figures = numbers_after(
@@ -171,14 +174,14 @@ fn the_page_shows_the_stored_freq_and_draws_the_nodes_and_modes() {
     );
     println!(
         "stable-step line: {figures:?}, file Freq {}, first mode {first}",
-        full.freq_file
+        full.freq_file()
     );
     assert!((figures[0] / first - 1.0).abs() < 1e-6, "{figures:?}");
     assert!(
-        (figures[1] / full.freq_file - 1.0).abs() < 1e-6,
+        (figures[1] / full.freq_file() - 1.0).abs() < 1e-6,
         "{figures:?}"
     );
-    assert!(full.freq_file > 4000.0);
+    assert!(full.freq_file() > 4000.0);
     // The picture: one drawing of the nodes and one per kept mode (one here), both
     // exposed nodes circled and labelled in each.
     let svgs = html.matches("<svg ").count();

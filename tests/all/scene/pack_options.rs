@@ -96,9 +96,10 @@ fn write_body(dir: &std::path::Path, n: usize) -> PackRequest {
         2.0 * std::f64::consts::PI * 40.0,
     );
     let k_l = [w1 * w1, 0.0, 0.0, w2 * w2];
-    let mut b = blocked_body(&[1.0; 2], &k_l, &local, n, IDENTITY, None);
+    let mut b = blocked_body(&[1.0; 2], &k_l, &local, n, IDENTITY, None).into_parts();
     // Store the true top frequency, so the file draws no Freq warning.
     b.freq_file = 40.0;
+    let b = fxbody::body::Body::from_parts(b, "big").unwrap_or_else(|e| panic!("{e}"));
     let body = dir.join(format!("big{n}.fxb"));
     std::fs::write(&body, write(&to_fxb(&b))).unwrap();
     let mut csv = String::from("id,x,y,z\n");

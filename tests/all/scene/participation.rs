@@ -43,7 +43,7 @@ fn share_equals_the_truncated_static_deflection() {
     // cantilever_damped (rotated P0), tip: the cumulative share of the modes up to
     // 100 Hz in each direction equals the truncated body's static deflection (direct
     // solve with its K_L) over the full body's (direct solve), to 1e-9.
-    let body = load_body(&fixture("cantilever_damped.fxb")).unwrap();
+    let body = load_body(&fixture("cantilever_damped.fxb"), Default::default()).unwrap();
     let tip = body.node_index(121).unwrap();
     let p = static_participation(&body, &[tip]);
     let t = truncate(&body, 100.0).unwrap();
@@ -51,12 +51,12 @@ fn share_equals_the_truncated_static_deflection() {
         let g = DMatrix::from_fn(6, b.nl(), |r, j| {
             let (half, k) = (r / 3, r % 3);
             (0..3)
-                .map(|a| b.p0[(k, a)] * b.phi_l[(6 * tip + 3 * half + a, j)])
+                .map(|a| b.p0()[(k, a)] * b.phi_l()[(6 * tip + 3 * half + a, j)])
                 .sum::<f64>()
         });
         let mut f = DVector::zeros(6);
         f[c] = 1.0;
-        let q = b.k_l.clone().lu().solve(&(g.transpose() * &f)).unwrap();
+        let q = b.k_l().clone().lu().solve(&(g.transpose() * &f)).unwrap();
         (g * q)[c]
     };
     for c in 0..6 {
@@ -72,11 +72,11 @@ fn free_free_modes_carry_no_translational_mass() {
     // The modes of a free-free body are mass-orthogonal to the rigid translations:
     // effective mass below 1e-12 of the total mass in every direction. The supported
     // truss's modes do carry mass (printed), at most the total.
-    let ff = load_body(&fixture("freefree.fxb")).unwrap();
+    let ff = load_body(&fixture("freefree.fxb"), Default::default()).unwrap();
     let m = ff.total_mass().unwrap();
     let e = effective_mass(&ff).unwrap();
     assert!(e.max() < 1e-12 * m, "{}", e.max());
-    let truss = load_body(&fixture("truss.fxb")).unwrap();
+    let truss = load_body(&fixture("truss.fxb"), Default::default()).unwrap();
     let e = effective_mass(&truss).unwrap();
     let mt = truss.total_mass().unwrap();
     for c in 0..3 {
@@ -84,5 +84,8 @@ fn free_free_modes_carry_no_translational_mass() {
         println!("truss effective mass, direction {c}: {s:.6} of {mt:.6} kg");
         assert!(s > 0.0 && s <= mt * (1.0 + 1e-9));
     }
-    assert!(effective_mass(&load_body(&fixture("cantilever.fxb")).unwrap()).is_none());
+    assert!(
+        effective_mass(&load_body(&fixture("cantilever.fxb"), Default::default()).unwrap())
+            .is_none()
+    );
 }

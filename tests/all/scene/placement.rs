@@ -129,7 +129,7 @@ fn shifted_deck_places_the_origin_and_the_fmu_keeps_deck_positions() {
         assert_eq!(scene.nodes.len(), want.len());
         for (k, &n) in scene.nodes.iter().enumerate() {
             let (id, x) = want[n];
-            assert_eq!(scene.body.node_ids[n], id);
+            assert_eq!(scene.body.node_ids()[n], id);
             for c in 0..3 {
                 assert!(
                     (scene.x0[k][c] - (x[c] + shift[c])).abs() < 1e-9,

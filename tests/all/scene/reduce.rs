@@ -35,7 +35,7 @@ fn reduce(name: &str, nodes: &str, fmax: f64) -> (Body, String) {
         "{stdout}{}",
         String::from_utf8_lossy(&run.stderr)
     );
-    let body = load_body(&out).unwrap();
+    let body = load_body(&out, Default::default()).unwrap();
     let _ = std::fs::remove_file(&out);
     (body, stdout)
 }
@@ -60,7 +60,7 @@ fn reduced_files_read_back_with_the_retained_frequencies() {
             .map(|v| v.as_f64().unwrap())
             .filter(|&f| f <= fmax)
             .collect();
-        let input = load_body(&fixture(&format!("{name}.fxb"))).unwrap();
+        let input = load_body(&fixture(&format!("{name}.fxb")), Default::default()).unwrap();
         let (body, stdout) = reduce(name, nodes, fmax);
         print!("{stdout}");
         assert_eq!(body.nl(), want.len(), "{name}: modes kept");
@@ -71,9 +71,9 @@ fn reduced_files_read_back_with_the_retained_frequencies() {
         );
         let mut worst: f64 = 0.0;
         for ((got, own), want) in body
-            .frequencies_hz
+            .frequencies_hz()
             .iter()
-            .zip(&input.frequencies_hz)
+            .zip(input.frequencies_hz())
             .zip(&want)
         {
             worst = worst.max((got / own - 1.0).abs());
@@ -87,9 +87,9 @@ fn reduced_files_read_back_with_the_retained_frequencies() {
             );
         }
         println!("{name}: largest relative frequency change {worst:.1e}");
-        let own = input.frequencies_hz[want.len() - 1];
-        assert!((body.freq_file / own - 1.0).abs() < 2e-9);
-        assert!(body.warnings.is_empty(), "{name}: {:?}", body.warnings);
+        let own = input.frequencies_hz()[want.len() - 1];
+        assert!((body.freq_file() / own - 1.0).abs() < 2e-9);
+        assert!(body.warnings().is_empty(), "{name}: {:?}", body.warnings());
         if let Some(m) = body.total_mass() {
             // M_R of the node subset is still the whole body's inertia: 1e-8 relative
             // (the fixture's own mass and the file rounding).
@@ -106,8 +106,8 @@ fn reduced_files_read_back_with_the_retained_frequencies() {
 /// Local-frame static displacement (6 per node) of `body` at its first `m` nodes under a
 /// local load `f` at those nodes, by a direct solve with K_L.
 fn static_local(body: &Body, m: usize, f: &DVector<f64>) -> DVector<f64> {
-    let g = DMatrix::from_fn(6 * m, body.nl(), |row, j| body.phi_l[(row, j)]);
-    let q = body.k_l.clone().lu().solve(&(g.transpose() * f)).unwrap();
+    let g = DMatrix::from_fn(6 * m, body.nl(), |row, j| body.phi_l()[(row, j)]);
+    let q = body.k_l().clone().lu().solve(&(g.transpose() * f)).unwrap();
     g * q
 }
 
@@ -117,7 +117,7 @@ fn reduced_file_plus_residual_keeps_the_static_deflection() {
     // the reduced file's static deflection (read back, direct K_L solve) plus the
     // residual flexibility equals the full body's at those nodes, for a unit load in
     // each of the 12 directions, to 1e-8 of the largest displacement (file rounding).
-    let full = load_body(&fixture("cantilever_damped.fxb")).unwrap();
+    let full = load_body(&fixture("cantilever_damped.fxb"), Default::default()).unwrap();
     let (small, _) = reduce("cantilever_damped", "121,111", 50.0);
     let nodes = [full.node_index(121).unwrap(), full.node_index(111).unwrap()];
     let residual = truncate(&full, 50.0).unwrap().residual(&nodes);

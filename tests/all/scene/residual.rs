@@ -13,7 +13,7 @@ fn velocities_are_the_derivative_of_positions_under_ramped_loads() {
     // velocity output equals (x(t+d) - x(t-d)) / 2d with d = 1e-6 s to 1e-6 of the
     // largest velocity; the residual's share R fdot is far above that tolerance.
     let full = scene("cantilever_damped", &[121, 111]);
-    let (sc, _) = full.truncated(2.0 * full.body.frequencies_hz[0]).unwrap();
+    let (sc, _) = full.truncated(2.0 * full.body.frequencies_hz()[0]).unwrap();
     let f0: Vec<f64> = (0..12).map(|k| 0.3 + 0.1 * k as f64).collect();
     let fd: Vec<f64> = (0..12).map(|k| 20.0 - 3.0 * k as f64).collect();
     let run = |t: f64| {
@@ -65,7 +65,7 @@ fn state_round_trip_is_bit_for_bit() {
         ("truss", vec![1043, 1022], Method::Explicit),
     ] {
         let full = scene(name, &ids);
-        let (sc, _) = full.truncated(2.0 * full.body.frequencies_hz[0]).unwrap();
+        let (sc, _) = full.truncated(2.0 * full.body.frequencies_hz()[0]).unwrap();
         let mut s = build(&sc, method, &Options::default()).unwrap();
         let loads: Vec<f64> = (0..12).map(|k| 0.01 * (k as f64 - 5.0)).collect();
         s.set_loads(&loads).unwrap();
@@ -94,7 +94,7 @@ fn free_body_correction_work_is_twice_its_energy() {
     // leaves about 1e-10 relative). The energy is computed from R and the loads, the
     // displacement from the positions: two paths.
     let full = scene("truss", &[1043, 1022]);
-    let (sc, _) = full.truncated(2.0 * full.body.frequencies_hz[0]).unwrap();
+    let (sc, _) = full.truncated(2.0 * full.body.frequencies_hz()[0]).unwrap();
     let mut s = build(&sc, Method::Explicit, &Options::default()).unwrap();
     let f: Vec<f64> = (0..12)
         .map(|k| if k % 6 < 3 { 1.0 + 0.5 * k as f64 } else { 0.0 })

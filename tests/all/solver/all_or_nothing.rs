@@ -21,7 +21,7 @@ fn bits(s: &dyn Solver) -> (Method, Vec<u64>) {
 fn cases() -> Vec<(String, Scene, Method, bool)> {
     let blocked = fixture_scene("cantilever", &[121, 111]);
     let free = fixture_scene("freefree", &[511]);
-    let f1 = blocked.body.frequencies_hz[0];
+    let f1 = blocked.body.frequencies_hz()[0];
     let (truncated, _) = blocked.truncated(1.5 * f1).unwrap();
     assert!(truncated.residual.is_some());
     let mut v = Vec::new();

@@ -70,9 +70,9 @@ fn first_mode_history(
     n: usize,
 ) -> Vec<f64> {
     let body = &scene.body;
-    let j = body.modal.ascending[0];
+    let j = body.modal().ascending[0];
     let s1: Vec<f64> = (0..body.nl())
-        .map(|r| body.modal.shapes[(r, j)] * body.m_l[r])
+        .map(|r| body.modal().shapes[(r, j)] * body.m_l()[r])
         .collect();
     let mut s = build(scene, method, &with_ratio(zeta)).unwrap();
     let mut load = [0.0; 6];
@@ -121,7 +121,7 @@ fn first_mode_decays_at_the_added_ratio_in_every_method_blocked_and_free() {
         let scene = fixture_scene(name, &[node]);
         let f1 = scene
             .body
-            .frequencies_hz
+            .frequencies_hz()
             .iter()
             .copied()
             .find(|&f| f > 0.0)

@@ -196,7 +196,7 @@ fn energy_history(
     steps: usize,
 ) -> (f64, f64, f64) {
     let scene = random_scene(3, 2, 1, 11, None);
-    let wmax = 2.0 * std::f64::consts::PI * scene.body.frequencies_hz.last().unwrap();
+    let wmax = 2.0 * std::f64::consts::PI * scene.body.frequencies_hz().last().unwrap();
     let mut s = build(&scene, method, opts).unwrap();
     s.set_loads(&[1.0, -2.0, 0.5, 0.1, 0.0, 0.3]).unwrap();
     let h = h_over_dtfx * 2.0 / wmax;
@@ -383,7 +383,7 @@ fn implicit_static_limit_small_and_large() {
         let body = &scene.body;
         let load = [1.0, -0.5, 2.0, 0.3, 0.1, -0.2];
         // F_L = Phi^T P0^T [f; m] at the exposed node (FORMULATION.md section 2).
-        let rows = scene.exposed_rows(&body.phi_l);
+        let rows = scene.exposed_rows(body.phi_l());
         let mut fl = DVector::zeros(nl);
         let mut pt = DMatrix::zeros(3, nl);
         for j in 0..nl {
@@ -391,14 +391,14 @@ fn implicit_static_limit_small_and_large() {
                 let mut t = 0.0;
                 let mut r = 0.0;
                 for l in 0..3 {
-                    t += body.p0[(c, l)] * rows[(l, j)];
-                    r += body.p0[(c, l)] * rows[(3 + l, j)];
+                    t += body.p0()[(c, l)] * rows[(l, j)];
+                    r += body.p0()[(c, l)] * rows[(3 + l, j)];
                 }
                 pt[(c, j)] = t;
                 fl[j] += load[c] * t + load[3 + c] * r;
             }
         }
-        let q = body.k_l.clone().lu().solve(&fl).unwrap();
+        let q = body.k_l().clone().lu().solve(&fl).unwrap();
         let want = &pt * &q;
         let opts = Options {
             rho_inf: 0.0,
@@ -419,4 +419,67 @@ fn implicit_static_limit_small_and_large() {
         println!("{nl} modes: static error {err:.2e}");
         assert!(err < 1e-8, "{nl} modes: {err:e}");
     }
+}
+
+/// A refused call's error is data that names the value refused, through the public
+/// builder and state API: an out-of-range rho_inf and dt_factor, a state of another
+/// method and one of the wrong length (issue 27, point 6).
+#[test]
+fn refusals_carry_and_name_the_value() {
+    use fxbody::solver::{BadState, SolverError, Unsupported};
+    let scene = one_mode_scene(2.0, 800.0, None);
+    let opts = Options {
+        rho_inf: 1.75,
+        ..Options::default()
+    };
+    let e = build(&scene, Method::Implicit, &opts)
+        .err()
+        .expect("refused");
+    assert_eq!(
+        e,
+        SolverError::Unsupported {
+            method: Method::Implicit,
+            why: Unsupported::RhoInf {
+                value: 1.75,
+                max: 1.0,
+                free: false
+            }
+        }
+    );
+    assert!(e.to_string().contains("got 1.75"), "{e}");
+    let opts = Options {
+        dt_factor: 3.5,
+        ..Options::default()
+    };
+    let e = build(&scene, Method::Explicit, &opts)
+        .err()
+        .expect("refused");
+    assert!(
+        matches!(e, SolverError::Unsupported { why: Unsupported::DtFactor(v), .. } if v == 3.5),
+        "{e:?}"
+    );
+    assert!(e.to_string().ends_with("got 3.5"), "{e}");
+    let mut exact = build(&scene, Method::Exact, &Options::default()).unwrap();
+    let implicit = build(&scene, Method::Implicit, &Options::default()).unwrap();
+    let e = exact.set_state(&implicit.state()).unwrap_err();
+    assert_eq!(
+        e,
+        SolverError::BadState(BadState::Method {
+            saved: Method::Implicit,
+            runs: Method::Exact
+        })
+    );
+    assert!(e.to_string().contains("saved by method Implicit"), "{e}");
+    let mut short = exact.state();
+    let n = short.data.len();
+    short.data.pop();
+    let e = exact.set_state(&short).unwrap_err();
+    assert_eq!(
+        e,
+        SolverError::BadState(BadState::Length {
+            expected: n,
+            found: n - 1
+        })
+    );
+    assert!(e.to_string().contains(&format!("got {}", n - 1)), "{e}");
 }

@@ -84,7 +84,7 @@ fn loads_on_all_components_superpose_the_single_component_responses() {
 /// body's local modes, each 3-vector of `f` taken to the body frame with P0^T.
 fn dense_generalised_load(scene: &Scene, f: &[f64]) -> DVector<f64> {
     let body = &scene.body;
-    let p0: Matrix3<f64> = body.p0;
+    let p0: Matrix3<f64> = *body.p0();
     let mut g = DVector::zeros(body.nl());
     for (k, &n) in scene.nodes.iter().enumerate() {
         for part in 0..2 {
@@ -92,7 +92,7 @@ fn dense_generalised_load(scene: &Scene, f: &[f64]) -> DVector<f64> {
             let local = p0.transpose() * v;
             for j in 0..body.nl() {
                 for c in 0..3 {
-                    g[j] += body.phi_l[(6 * n + 3 * part + c, j)] * local[c];
+                    g[j] += body.phi_l()[(6 * n + 3 * part + c, j)] * local[c];
                 }
             }
         }
@@ -116,7 +116,7 @@ fn load_projection_equals_the_dense_product() {
     let g = dense_generalised_load(&scene, &f);
     let h = 1e-7;
     let want: Vec<f64> = (0..scene.body.nl())
-        .map(|j| g[j] / scene.body.m_l[j] * h * h / 2.0)
+        .map(|j| g[j] / scene.body.m_l()[j] * h * h / 2.0)
         .collect();
     let mut s = build(&scene, Method::Exact, &Options::default()).unwrap();
     s.set_loads(&f).unwrap();
@@ -137,15 +137,15 @@ fn load_projection_equals_the_dense_product() {
     let scene = random_scene(10, 5, 2, 7, Some((0.2, 2e-4)));
     let g = dense_generalised_load(&scene, &f);
     let body = &scene.body;
-    let q = body.k_l.clone().lu().solve(&g).unwrap();
+    let q = body.k_l().clone().lu().solve(&g).unwrap();
     let mut want = Vec::new();
     for &n in &scene.nodes {
         let local = Vector3::from_fn(|c, _| {
             (0..body.nl())
-                .map(|j| body.phi_l[(6 * n + c, j)] * q[j])
+                .map(|j| body.phi_l()[(6 * n + c, j)] * q[j])
                 .sum()
         });
-        want.extend((body.p0 * local).iter().copied());
+        want.extend((body.p0() * local).iter().copied());
     }
     let mut s = build(&scene, Method::Exact, &Options::default()).unwrap();
     s.set_loads(&f).unwrap();
@@ -171,7 +171,7 @@ fn random_scenes_have_repeated_and_clustered_frequencies_over_two_decades() {
         let want = random_scene_omegas(nl);
         let got: Vec<f64> = scene
             .body
-            .frequencies_hz
+            .frequencies_hz()
             .iter()
             .map(|f| 2.0 * std::f64::consts::PI * f)
             .collect();

@@ -4,8 +4,7 @@
 
 use super::super::{FRAME_RETRY_FRACTION, MAX_HALVINGS, frame_error, frame_invalid};
 use super::Explicit;
-use crate::num::num;
-use crate::solver::{MAX_INTERNAL_STEPS, SolverError};
+use crate::solver::{FrameAdvice, MAX_INTERNAL_STEPS, SolverError};
 
 impl Explicit {
     /// One internal step of `dt` with its frame checked. When the frame error passes
@@ -42,7 +41,12 @@ impl Explicit {
             if !err.is_finite() {
                 // Overflow: no halving brings the numbers back.
                 self.restore_substep();
-                return Err(frame_invalid(err, h, self.spin_rate(), ""));
+                return Err(frame_invalid(
+                    err,
+                    h,
+                    self.spin_rate(),
+                    FrameAdvice::SmallerSteps,
+                ));
             }
             if err > retry && level < MAX_HALVINGS {
                 self.restore_substep();
@@ -69,13 +73,10 @@ impl Explicit {
                     err,
                     h,
                     self.spin_rate(),
-                    &format!(
-                        "the frame's angular acceleration is beyond what internal steps of \
-                         {} s (the explicit step halved {MAX_HALVINGS} times) can follow; \
-                         reduce the torque or the loads' rate of change, or use the \
-                         implicit method",
-                        num(d)
-                    ),
+                    FrameAdvice::AngularAcceleration {
+                        internal: d,
+                        halvings: MAX_HALVINGS,
+                    },
                 ));
             }
             pos += size;

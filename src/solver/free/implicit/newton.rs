@@ -192,11 +192,10 @@ impl Implicit {
             dprev = dmax;
         }
         if !converged {
-            return Err(SolverError::Singular(format!(
-                "generalised-alpha Newton iteration did not converge in {MAX_ITER} \
-                 iterations (step {} s)",
-                crate::num::num(h)
-            )));
+            return Err(SolverError::Singular(crate::solver::Singular::Newton {
+                iterations: MAX_ITER,
+                h,
+            }));
         }
         // Accept: the end-of-step kinematics of the converged x.
         let w = &mut self.w;
@@ -254,13 +253,9 @@ impl Implicit {
             }
             let ratio = w.lfac.factor();
             if ratio.is_nan() || ratio <= SINGULAR_RATIO {
-                return Err(SolverError::Singular(format!(
-                    "the local (modal) iteration matrix is singular (pivot ratio {}) for the \
-                     step {} s: the step is too large for the numbers to stay finite; use a \
-                     smaller communication step",
-                    crate::num::num(ratio),
-                    crate::num::num(w.h_now)
-                )));
+                return Err(SolverError::Singular(
+                    crate::solver::Singular::LocalIteration { ratio, h: w.h_now },
+                ));
             }
             for (idx, y) in w.ykl.iter_mut().enumerate() {
                 for i in 0..nr {
