@@ -45,17 +45,6 @@ pub enum SceneError {
         /// The body file.
         body: String,
     },
-    /// Model Exchange (`interface me` or `both`) asked of a free body.
-    #[error(
-        "interface {interface}: Model Exchange is provided for blocked bodies only so far; \
-         {body} is free: pack it for co-simulation (interface cs, the default)"
-    )]
-    ModelExchangeOnFree {
-        /// The body file.
-        body: String,
-        /// The interface asked for.
-        interface: &'static str,
-    },
     /// Mode truncation (`fmax`) failed.
     #[error("{body}: {source}")]
     Truncation {
@@ -130,12 +119,6 @@ pub fn make_scene(
     if opts.method == Some(crate::solver::Method::Exact) && !body.iblo {
         return Err(SceneError::ExactOnFree {
             body: body_name.to_string(),
-        });
-    }
-    if opts.interface.model_exchange() && !body.iblo {
-        return Err(SceneError::ModelExchangeOnFree {
-            body: body_name.to_string(),
-            interface: opts.interface.name(),
         });
     }
     let mut nodes = Vec::with_capacity(opts.nodes.len());

@@ -117,6 +117,24 @@ impl Simulation {
         Ok(self.continuous()?.completed_step())
     }
 
+    /// Whether [`Simulation::completed_step`] would change the states now, the states
+    /// left as they are: FMI lets a model change its continuous states in Event Mode
+    /// only, so at fmi2CompletedIntegratorStep the model asks for an event with this and
+    /// changes them in fmi2NewDiscreteStates. Allocates nothing.
+    pub fn completed_step_due(&mut self) -> Result<bool, SimulationError> {
+        self.fill_continuous()?;
+        let t = self.time;
+        let Some(c) = self.solver.as_mut().and_then(|s| s.continuous()) else {
+            return Err(SimulationError::NoSolver);
+        };
+        if !c.completed_step() {
+            return Ok(false);
+        }
+        // Back to the states as the master left them.
+        c.set_states(t, &self.xs)?;
+        Ok(true)
+    }
+
     /// The continuous states (fmi2GetContinuousStates).
     pub fn states(&mut self, out: &mut [f64]) -> Result<(), SimulationError> {
         self.fill(out, |c, o| c.states(o))
@@ -238,7 +256,14 @@ impl Simulation {
         if !self.jacobian(&mut a, &mut b)? {
             return Err(SimulationError::Solver(SolverError::Unsupported {
                 method: self.solver_method(),
-                why: "no exact Jacobian".into(),
+                why: if self.table.free {
+                    "no exact Jacobian for a free body: the description declares \
+                     providesDirectionalDerivative false (the frame's equations are \
+                     nonlinear in the attitude and the angular velocity)"
+                        .into()
+                } else {
+                    "no exact Jacobian".into()
+                },
             }));
         }
         for (o, row) in out.iter_mut().zip(&rows) {
