@@ -8,7 +8,7 @@ Reference: the co-simulation split method driven by hand through FMU2Slave (the 
 held over each step) at 10 us, a second integration of the same equations (exact
 modes, the frame on the rotation group; the Rust test free::me::pulse_matches_the_split_
 method measures the same pair with RK4). Tolerance: 1e-5 of the peak displacement, with
-CVode at rtol 1e-10 (measured figures printed). The tumbling case at rtol 1e-4 makes
+CVode at rtol 1e-10 (measured: 4.5e-8 at rest, 5.9e-10 tumbling). The tumbling case at rtol 1e-4 makes
 the quaternion's norm drift past the FMU's 1e-8: fmi2CompletedIntegratorStep then asks
 for an event, fmi2NewDiscreteStates normalises it and says so, and fmpy's loop reads the
 states again; the norm of the recorded quaternion stays within 1e-8 of 1 after each
