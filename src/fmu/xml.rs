@@ -319,16 +319,14 @@ pub(crate) fn derivative_unknowns(table: &VarTable) -> Vec<Unknown> {
     (0..table.vars.len())
         .filter_map(|d| match table.vars[d].kind {
             Kind::Derivative(i) => {
-                let mut deps = if table.free && i < 3 {
-                    vec![at(i + 7)]
-                } else if table.free && i < 7 {
-                    (3..7).chain(10..13).map(at).collect()
-                } else if table.free && i < 13 || (table.free && i >= rigid + nl) {
-                    let mut v = loads.clone();
-                    v.extend((0..n).map(at));
-                    v
-                } else if table.free {
-                    vec![at(i + nl)]
+                let mut deps = if table.free {
+                    match i {
+                        0..3 => vec![at(i + 7)],
+                        3..7 => (3..7).chain(10..13).map(at).collect(),
+                        _ if (rigid..rigid + nl).contains(&i) => vec![at(i + nl)],
+                        // The accelerations: every state and the loads.
+                        _ => loads.iter().copied().chain((0..n).map(at)).collect(),
+                    }
                 } else if i < n / 2 {
                     vec![at(i + n / 2)]
                 } else {

@@ -14,8 +14,8 @@ use super::fmi_version::FmiVersion;
 use super::options::SceneOptions;
 use super::vars::{Kind, VarTable, method_range};
 use super::xml::{
-    body_description, categories_and_experiment, derivative_unknowns, state_unknowns, escape, real_attributes,
-    unit_element, units_used, unknowns, variable_attributes,
+    body_description, categories_and_experiment, derivative_unknowns, escape, real_attributes,
+    state_unknowns, unit_element, units_used, unknowns, variable_attributes,
 };
 use crate::scene::Scene;
 

@@ -56,16 +56,21 @@ impl VarTable {
         if free {
             let rigid: [(&str, &str, usize); 4] = [
                 ("X", "Position of the frame point L0, global component", 3),
-                ("quat", "Attitude quaternion of the frame, component (w, x, y, z)", 4),
+                (
+                    "quat",
+                    "Attitude quaternion of the frame, component (w, x, y, z)",
+                    4,
+                ),
                 ("V", "Velocity of the frame point L0, global component", 3),
-                ("omega", "Angular velocity of the frame, global component", 3),
+                (
+                    "omega",
+                    "Angular velocity of the frame, global component",
+                    3,
+                ),
             ];
             for (name, description, len) in rigid {
                 for c in 1..=len {
-                    states.push((
-                        format!("state.{name}[{c}]"),
-                        format!("{description} {c}"),
-                    ));
+                    states.push((format!("state.{name}[{c}]"), format!("{description} {c}")));
                 }
             }
         }

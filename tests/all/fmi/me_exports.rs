@@ -591,14 +591,20 @@ fn a_free_body_declares_its_states_refuses_the_jacobian_and_normalises_at_events
     // A unit attitude at the start (the body's placement P0, a 35 degree rotation).
     let norm = |x: &[f64]| x[3..7].iter().map(|q| q * q).sum::<f64>().sqrt();
     assert!((norm(&x) - 1.0).abs() < 1e-15, "{}", norm(&x));
-    assert!(x[3] < 1.0 - 1e-3, "P0 is not the identity: q = {:?}", &x[3..7]);
+    assert!(
+        x[3] < 1.0 - 1e-3,
+        "P0 is not the identity: q = {:?}",
+        &x[3..7]
+    );
 
     // The Jacobian: refused, logged, nothing changed.
     let der = refs(&fx, |k| k == Kind::Derivative(7));
     let state = refs(&fx, |k| k == Kind::State(3));
     let before = s.fingerprint();
     let mut v = 0.0;
-    let st = unsafe { fmi2GetDirectionalDerivative(s.c, der.as_ptr(), 1, state.as_ptr(), 1, &1.0, &mut v) };
+    let st = unsafe {
+        fmi2GetDirectionalDerivative(s.c, der.as_ptr(), 1, state.as_ptr(), 1, &1.0, &mut v)
+    };
     assert_eq!(st, fmi2Error);
     let why = s.last_error();
     assert!(why.contains("providesDirectionalDerivative false"), "{why}");
@@ -609,9 +615,16 @@ fn a_free_body_declares_its_states_refuses_the_jacobian_and_normalises_at_events
     let s = in_continuous_time(&fx);
     let (mut enter, mut term) = (fmi2True, fmi2True);
     unsafe {
-        assert_eq!(fmi2CompletedIntegratorStep(s.c, fmi2True, &mut enter, &mut term), fmi2OK);
+        assert_eq!(
+            fmi2CompletedIntegratorStep(s.c, fmi2True, &mut enter, &mut term),
+            fmi2OK
+        );
     }
-    assert_eq!((enter, term), (fmi2False, fmi2False), "a unit quaternion moves nothing");
+    assert_eq!(
+        (enter, term),
+        (fmi2False, fmi2False),
+        "a unit quaternion moves nothing"
+    );
     let mut drifted = x.clone();
     for q in &mut drifted[3..7] {
         *q *= 1.0 + 1e-6;
@@ -619,11 +632,18 @@ fn a_free_body_declares_its_states_refuses_the_jacobian_and_normalises_at_events
     let mut read = vec![0.0; n];
     unsafe {
         assert_eq!(fmi2SetContinuousStates(s.c, drifted.as_ptr(), n), fmi2OK);
-        assert_eq!(fmi2CompletedIntegratorStep(s.c, fmi2True, &mut enter, &mut term), fmi2OK);
+        assert_eq!(
+            fmi2CompletedIntegratorStep(s.c, fmi2True, &mut enter, &mut term),
+            fmi2OK
+        );
         assert_eq!((enter, term), (fmi2True, fmi2False));
         assert_eq!(fmi2GetContinuousStates(s.c, read.as_mut_ptr(), n), fmi2OK);
     }
-    assert_eq!(read[3..7], drifted[3..7], "the states changed outside Event Mode");
+    assert_eq!(
+        read[3..7],
+        drifted[3..7],
+        "the states changed outside Event Mode"
+    );
     let mut info = fmi2EventInfo {
         newDiscreteStatesNeeded: fmi2True,
         terminateSimulation: fmi2True,
@@ -641,7 +661,11 @@ fn a_free_body_declares_its_states_refuses_the_jacobian_and_normalises_at_events
     assert_eq!(info.newDiscreteStatesNeeded, fmi2False);
     assert!((norm(&read) - 1.0).abs() < 1e-15, "{}", norm(&read));
     for i in 0..n {
-        let want = if (3..7).contains(&i) { x[i] } else { drifted[i] };
+        let want = if (3..7).contains(&i) {
+            x[i]
+        } else {
+            drifted[i]
+        };
         assert!(
             (read[i] - want).abs() <= 1e-15 * want.abs().max(1.0),
             "state {i}: {} for {want}",
