@@ -1462,8 +1462,9 @@ fmi3Status fmi3SetShiftFraction(fmi3Instance instance,
 fmi3Status fmi3EvaluateDiscreteStates(fmi3Instance instance);
 
 /*
- An event iteration of a Model Exchange instance: no discrete states, no events, so
- nothing to update and no time event. A co-simulation instance has no event mode.
+ An event iteration of a Model Exchange instance: no discrete states and no time
+ event; a free body's drifted quaternion is normalised (the continuous states'
+ values changed). A co-simulation instance has no event mode.
 
  # Safety
  `instance` is an instance; the output arguments are NULL or writable.
@@ -1495,7 +1496,8 @@ fmi3Status fmi3ActivateModelPartition(fmi3Instance instance,
 fmi3Status fmi3EnterContinuousTimeMode(fmi3Instance instance);
 
 /*
- A completed integrator step: no event, no termination.
+ A completed integrator step: an event asked for when a free body's quaternion must be
+ normalised (in the event update), never a termination.
 
  # Safety
  `instance` is an instance; the two flags are writable.

@@ -111,10 +111,13 @@ pub(crate) fn enter_mode(inst: &mut Instance, to: FmiState) -> Outcome {
     Ok(fmi2OK)
 }
 
-/// The body of fmi2CompletedIntegratorStep and fmi3CompletedIntegratorStep: the method
-/// may put its states back on their manifold (a free body's quaternion normalised;
-/// nothing for a blocked body), and then asks for an event so that the master reads
-/// them again; never a termination.
+/// The body of fmi2CompletedIntegratorStep and fmi3CompletedIntegratorStep: when the
+/// method would put its states back on their manifold (a free body's quaternion drifted
+/// from norm 1; never for a blocked body) it asks for an event, leaving the states as
+/// they are: FMI lets the model change continuous states in Event Mode only, so it
+/// normalises them in fmi2NewDiscreteStates / fmi3UpdateDiscreteStates
+/// ([`discrete_update`]), which reports `valuesOfContinuousStatesChanged`. Never a
+/// termination.
 ///
 /// # Safety
 /// `enter_event_mode` and `terminate` are NULL (then not written) or writable.
@@ -124,14 +127,22 @@ pub(crate) unsafe fn completed_integrator_step(
     terminate: *mut i32,
 ) -> Outcome {
     model_exchange_only(inst)?;
-    let changed = inst.simulation.completed_step()?;
-    for (p, v) in [(enter_event_mode, changed), (terminate, false)] {
+    let due = inst.simulation.completed_step_due()?;
+    for (p, v) in [(enter_event_mode, due), (terminate, false)] {
         if !p.is_null() {
             // SAFETY: non-null and writable (FMI contract).
             unsafe { *p = i32::from(v) };
         }
     }
     Ok(fmi2OK)
+}
+
+/// The event update of fmi2NewDiscreteStates and fmi3UpdateDiscreteStates: the body has
+/// no discrete states; the method puts its continuous states back on their manifold (a
+/// free body's quaternion normalised once it has drifted). `true` when it changed them
+/// (`valuesOfContinuousStatesChanged`).
+pub(crate) fn discrete_update(inst: &mut Instance) -> Result<bool, FmiError> {
+    Ok(inst.simulation.completed_step()?)
 }
 
 /// The body of fmi2GetDirectionalDerivative and fmi3GetDirectionalDerivative (Model
@@ -192,13 +203,14 @@ pub unsafe extern "C" fn fmi2NewDiscreteStates(
             if eventInfo.is_null() {
                 return Err(FmiError::Null("eventInfo"));
             }
+            let changed = discrete_update(inst)?;
             // SAFETY: non-null and writable (FMI contract).
             unsafe {
                 *eventInfo = fmi2EventInfo {
                     newDiscreteStatesNeeded: fmi2False,
                     terminateSimulation: fmi2False,
                     nominalsOfContinuousStatesChanged: fmi2False,
-                    valuesOfContinuousStatesChanged: fmi2False,
+                    valuesOfContinuousStatesChanged: i32::from(changed),
                     nextEventTimeDefined: fmi2False,
                     nextEventTime: 0.0,
                 }
@@ -222,7 +234,8 @@ pub unsafe extern "C" fn fmi2EnterContinuousTimeMode(c: fmi2Component) -> fmi2St
     )
 }
 
-/// A completed integrator step: no event, no termination.
+/// A completed integrator step: an event asked for when a free body's quaternion must be
+/// normalised (in the event update), never a termination.
 ///
 /// # Safety
 /// `c` is an instance; the two flags are writable.

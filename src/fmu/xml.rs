@@ -10,6 +10,7 @@ use super::options::{SceneOptions, UnitSystem};
 use super::vars::{Causality, Kind, Quantity, VarTable, Variable, method_range};
 use crate::num::count;
 use crate::scene::Scene;
+use crate::solver::free::continuous::RIGID_STATES;
 
 /// Log categories the FMU declares, with descriptions; the FMI layer uses the same list.
 pub const LOG_CATEGORIES: [(&str, &str); 4] = [
@@ -255,8 +256,9 @@ pub(crate) fn unknowns(scene: &Scene, table: &VarTable) -> Vec<Unknown> {
                         || (feeds && matches!(p.kind, Kind::Load { .. }))
                 })
                 .collect();
-            initial.extend(&states);
+            initial.extend(initial_dependencies(table, &states));
             initial.sort_unstable();
+            initial.dedup();
             Unknown {
                 output: i,
                 outputs,
@@ -271,6 +273,26 @@ pub(crate) fn unknowns(scene: &Scene, table: &VarTable) -> Vec<Unknown> {
 /// velocities (the second).
 fn states_moving(table: &VarTable, kind: Kind) -> Vec<usize> {
     let n = table.state_count();
+    if table.free {
+        // A free body's outputs move with the frame and the modes: every state.
+        let moves = matches!(
+            kind,
+            Kind::Position { .. }
+                | Kind::Rotation { .. }
+                | Kind::StrainEnergy
+                | Kind::Velocity { .. }
+                | Kind::AngularVelocity { .. }
+                | Kind::KineticEnergy
+                | Kind::FrameOrigin(_)
+                | Kind::FrameP(_)
+                | Kind::FrameVelocity(_)
+                | Kind::FrameAngularVelocity(_)
+        );
+        let all = if moves { 0..n } else { 0..0 };
+        return all
+            .filter_map(|i| table.state_ref(i).map(|vr| vr as usize))
+            .collect();
+    }
     let half = match kind {
         Kind::Position { .. } | Kind::Rotation { .. } | Kind::StrainEnergy => 0..n / 2,
         Kind::Velocity { .. } | Kind::AngularVelocity { .. } | Kind::KineticEnergy => n / 2..n,
@@ -281,34 +303,87 @@ fn states_moving(table: &VarTable, kind: Kind) -> Vec<usize> {
 }
 
 /// Each state derivative's [`Unknown`] (Model Exchange's `<Derivatives>` and its initial
-/// unknowns), in table order: `der(q_j)` is `qd_j`; `der(qd_j)` depends on `q_j`, `qd_j`
-/// and the loads.
+/// unknowns), in table order. A blocked body: `der(q_j)` is `qd_j`; `der(qd_j)` depends
+/// on `q_j`, `qd_j` and the loads. A free body: `der(X)` is `V`, `der(quat)` depends on
+/// `quat` and `omega`, `der(modal.q_j)` is `modal.qd_j`; the accelerations on every state
+/// and the loads. Initially, a state the FMU calculates (a free body's frame) stands for
+/// the parameters it is calculated from ([`initial_dependencies`]).
 pub(crate) fn derivative_unknowns(table: &VarTable) -> Vec<Unknown> {
     let n = table.state_count();
     let loads: Vec<usize> = (0..table.vars.len())
         .filter(|&j| matches!(table.vars[j].kind, Kind::Load { .. }))
         .collect();
     let at = |i: usize| table.state_ref(i).map_or(0, |vr| vr as usize);
+    let rigid = if table.free { RIGID_STATES } else { 0 };
+    let nl = (n - rigid) / 2;
     (0..table.vars.len())
         .filter_map(|d| match table.vars[d].kind {
             Kind::Derivative(i) => {
-                let deps = if i < n / 2 {
+                let mut deps = if table.free {
+                    match i {
+                        0..3 => vec![at(i + 7)],
+                        3..7 => (3..7).chain(10..13).map(at).collect(),
+                        _ if (rigid..rigid + nl).contains(&i) => vec![at(i + nl)],
+                        // The accelerations: every state and the loads.
+                        _ => loads.iter().copied().chain((0..n).map(at)).collect(),
+                    }
+                } else if i < n / 2 {
                     vec![at(i + n / 2)]
                 } else {
                     let mut v = loads.clone();
                     v.extend([at(i - n / 2), at(i)]);
-                    v.sort_unstable();
                     v
                 };
+                deps.sort_unstable();
                 Some(Unknown {
                     output: d,
-                    outputs: deps.clone(),
-                    initial: deps,
+                    initial: initial_dependencies(table, &deps),
+                    outputs: deps,
                 })
             }
             _ => None,
         })
         .collect()
+}
+
+/// The states the FMU calculates at initialisation (a free body's frame: no `start`)
+/// as initial unknowns, in table order: the position and the attitude depend on nothing
+/// a master sets, the velocities on the initial velocity parameters.
+pub(crate) fn state_unknowns(table: &VarTable) -> Vec<Unknown> {
+    (0..table.vars.len())
+        .filter(|&s| matches!(table.vars[s].kind, Kind::State(_)) && table.vars[s].start.is_none())
+        .map(|s| {
+            let initial = initial_dependencies(table, &[s]);
+            Unknown {
+                output: s,
+                outputs: initial.clone(),
+                initial,
+            }
+        })
+        .collect()
+}
+
+/// `deps` at the initial instant: a state the FMU calculates (no `start`) is replaced by
+/// what it is calculated from (a free body's velocity states by `v0` and `w0`).
+fn initial_dependencies(table: &VarTable, deps: &[usize]) -> Vec<usize> {
+    let mut out = Vec::with_capacity(deps.len());
+    for &d in deps {
+        let v = &table.vars[d];
+        match v.kind {
+            Kind::State(i) if v.start.is_none() => {
+                if (7..13).contains(&i) {
+                    out.extend(
+                        (0..table.vars.len())
+                            .filter(|&j| matches!(table.vars[j].kind, Kind::V0(_) | Kind::W0(_))),
+                    );
+                }
+            }
+            _ => out.push(d),
+        }
+    }
+    out.sort_unstable();
+    out.dedup();
+    out
 }
 
 /// A variable's causality, variability and `initial` attribute (the last empty or with
@@ -371,14 +446,17 @@ pub fn model_description(
         env!("CARGO_PKG_VERSION")
     );
     if opts.interface.model_exchange() {
-        // No events (numberOfEventIndicators 0); fmi2CompletedIntegratorStep is called
-        // by the master (the default, needed by nothing yet but harmless).
+        // No event indicators; fmi2CompletedIntegratorStep is called by the master (the
+        // default): a free body asks there for the step event at which it normalises its
+        // quaternion.
         let _ = writeln!(
             x,
             "  <ModelExchange modelIdentifier=\"{}\" canGetAndSetFMUstate=\"true\" \
-             canSerializeFMUstate=\"true\" providesDirectionalDerivative=\"true\" \
+             canSerializeFMUstate=\"true\" providesDirectionalDerivative=\"{}\" \
              canNotUseMemoryManagementFunctions=\"true\"/>",
-            escape(&opts.model_identifier())
+            escape(&opts.model_identifier()),
+            // A free body's Jacobian is not provided.
+            !table.free
         );
     }
     if opts.interface.co_simulation() {
@@ -445,6 +523,7 @@ pub fn model_description(
     };
     let outputs = unknowns(scene, table);
     let derivatives = derivative_unknowns(table);
+    let states = state_unknowns(table);
     for (list, initial) in [
         ("Outputs", false),
         ("Derivatives", false),
@@ -453,8 +532,9 @@ pub fn model_description(
         let listed: Vec<&Unknown> = match list {
             "Outputs" => outputs.iter().collect(),
             "Derivatives" => derivatives.iter().collect(),
-            // Ascending index: the outputs, then the derivatives after them.
-            _ => outputs.iter().chain(&derivatives).collect(),
+            // Ascending index: the outputs, the calculated states, then the
+            // derivatives after them.
+            _ => outputs.iter().chain(&states).chain(&derivatives).collect(),
         };
         if listed.is_empty() {
             continue;

@@ -15,7 +15,7 @@ use super::options::SceneOptions;
 use super::vars::{Kind, VarTable, method_range};
 use super::xml::{
     body_description, categories_and_experiment, derivative_unknowns, escape, real_attributes,
-    unit_element, units_used, unknowns, variable_attributes,
+    state_unknowns, unit_element, units_used, unknowns, variable_attributes,
 };
 use crate::scene::Scene;
 
@@ -50,10 +50,12 @@ pub fn model_description(
             x,
             "  <ModelExchange modelIdentifier=\"{}\" needsExecutionTool=\"false\" \
              canBeInstantiatedOnlyOncePerProcess=\"false\" canGetAndSetFMUState=\"true\" \
-             canSerializeFMUState=\"true\" providesDirectionalDerivatives=\"true\" \
+             canSerializeFMUState=\"true\" providesDirectionalDerivatives=\"{}\" \
              providesAdjointDerivatives=\"false\" providesPerElementDependencies=\"false\" \
              needsCompletedIntegratorStep=\"true\" providesEvaluateDiscreteStates=\"false\"/>",
-            escape(&opts.model_identifier())
+            escape(&opts.model_identifier()),
+            // A free body's Jacobian is not provided.
+            !table.free
         );
     }
     if opts.interface.co_simulation() {
@@ -127,12 +129,14 @@ pub fn model_description(
     };
     let outputs = unknowns(scene, table);
     let derivatives = derivative_unknowns(table);
+    let states = state_unknowns(table);
     // Schema order: Output, ContinuousStateDerivative, InitialUnknown (the outputs',
-    // then the derivatives': ascending value references).
+    // the calculated states', then the derivatives': ascending value references).
     for (element, initial, list) in [
         ("Output", false, &outputs),
         ("ContinuousStateDerivative", false, &derivatives),
         ("InitialUnknown", true, &outputs),
+        ("InitialUnknown", true, &states),
         ("InitialUnknown", true, &derivatives),
     ] {
         for u in list {

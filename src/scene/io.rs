@@ -45,17 +45,6 @@ pub enum SceneError {
         /// The body file.
         body: String,
     },
-    /// Model Exchange (`interface me` or `both`) asked of a free body.
-    #[error(
-        "interface {interface}: Model Exchange is provided for blocked bodies only so far; \
-         {body} is free: pack it for co-simulation (interface cs, the default)"
-    )]
-    ModelExchangeOnFree {
-        /// The body file.
-        body: String,
-        /// The interface asked for.
-        interface: &'static str,
-    },
     /// Mode truncation (`fmax`) failed.
     #[error("{body}: {source}")]
     Truncation {
@@ -130,12 +119,6 @@ pub fn make_scene(
     if opts.method == Some(crate::solver::Method::Exact) && !body.is_blocked() {
         return Err(SceneError::ExactOnFree {
             body: body_name.to_string(),
-        });
-    }
-    if opts.interface.model_exchange() && !body.is_blocked() {
-        return Err(SceneError::ModelExchangeOnFree {
-            body: body_name.to_string(),
-            interface: opts.interface.name(),
         });
     }
     let mut nodes = Vec::with_capacity(opts.nodes.len());
@@ -271,8 +254,7 @@ pub fn load_resources(dir: &Path) -> Result<Resources, ResourceError> {
 #[cfg(test)]
 pub(crate) fn cantilever_tip_scene() -> Scene {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    let body =
-        crate::body::load(&root.join("fixtures/cantilever.fxb"), Default::default()).unwrap();
+    let body = crate::body::load(&root.join("fixtures/cantilever.fxb")).unwrap();
     let xyz = HashMap::from([(121, [1.0, 0.0, 0.0])]);
     let opts = SceneOptions {
         name: "t".into(),

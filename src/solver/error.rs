@@ -92,7 +92,9 @@ pub enum Unsupported {
     },
     /// A directional derivative asked of a first-order form without an exact Jacobian
     /// (the free body's).
-    #[error("no exact Jacobian (directional derivatives are not provided for this body)")]
+    #[error(
+        "no exact Jacobian for a free body: the description declares providesDirectionalDerivative false (the frame's equations are nonlinear in the attitude and the angular velocity)"
+    )]
     NoJacobian,
     /// A spectral radius outside `[0, max]`; `free` when the bound is the free body's
     /// (the frame constraints need damping at infinite frequency).

@@ -12,10 +12,9 @@ measured); on the pulse, whose peak is 14 times smaller than the step's, it give
 with the tolerance), so the pulse is held to 1e-6 at rtol 1e-10 and to 1e-5 at rtol
 1e-8. With mode truncation (--fmax 1000: 14 modes kept, 6 as the residual correction)
 the positions carry the loads' feed-through, read through the co-simulation output
-code: 6.9e-10 (step) and 8.8e-9 (pulse) of the peak at rtol 1e-10. A free body is refused
-for Model Exchange (blocked bodies only so far)."""
+code: 6.9e-10 (step) and 8.8e-9 (pulse) of the peak at rtol 1e-10. A free body's Model
+Exchange is tested in test_me_free.py."""
 
-import pathlib
 
 import numpy as np
 import pytest
@@ -129,19 +128,6 @@ def test_cvode_reproduces_the_exact_method_with_the_residual_feed_through(fmus, 
     gap = np.max(np.abs(y - ref)) / peak
     print(f"--fmax 1000 {load}, CVode rtol 1e-10: gap {gap:.2e} of the peak {peak:.3e}")
     assert gap < 1e-6, f"{load}: Model Exchange off the exact method by {gap:.2e} of the peak"
-
-
-def test_a_free_body_is_refused_for_model_exchange(fmu_dir):
-    """Model Exchange is provided for blocked bodies only so far: pack says so."""
-    import subprocess
-    from conftest import EXE, FIXTURES
-    out = pathlib.Path(fmu_dir) / "me_free" / "freefree.fmu"
-    out.parent.mkdir(parents=True, exist_ok=True)
-    run = subprocess.run([str(EXE), "pack", str(FIXTURES / "freefree.fxb"), "-o", str(out),
-                          "--interface", "me"], capture_output=True, text=True)
-    assert run.returncode != 0
-    assert "Model Exchange is provided for blocked bodies only" in run.stderr, run.stderr
-    assert not out.exists()
 
 
 def test_the_both_fmu_serves_both_interfaces_alike(fmus):

@@ -232,8 +232,9 @@ pub unsafe extern "C" fn fmi3EvaluateDiscreteStates(instance: fmi3Instance) -> f
     )
 }
 
-/// An event iteration of a Model Exchange instance: no discrete states, no events, so
-/// nothing to update and no time event. A co-simulation instance has no event mode.
+/// An event iteration of a Model Exchange instance: no discrete states and no time
+/// event; a free body's drifted quaternion is normalised (the continuous states'
+/// values changed). A co-simulation instance has no event mode.
 ///
 /// # Safety
 /// `instance` is an instance; the output arguments are NULL or writable.
@@ -256,16 +257,18 @@ pub unsafe extern "C" fn fmi3UpdateDiscreteStates(
             if inst.interface != Interface::ModelExchange {
                 return Err(FmiError::NotProvided(NO_EVENT_MODE));
             }
-            for p in [
-                discreteStatesNeedUpdate,
-                terminateSimulation,
-                nominalsOfContinuousStatesChanged,
-                valuesOfContinuousStatesChanged,
-                nextEventTimeDefined,
+            // A free body's quaternion normalised here (Event Mode), if it drifted.
+            let changed = crate::fmi::model_exchange::discrete_update(inst)?;
+            for (p, v) in [
+                (discreteStatesNeedUpdate, false),
+                (terminateSimulation, false),
+                (nominalsOfContinuousStatesChanged, false),
+                (valuesOfContinuousStatesChanged, changed),
+                (nextEventTimeDefined, false),
             ] {
                 if !p.is_null() {
                     // SAFETY: non-null and writable (FMI contract).
-                    unsafe { *p = false };
+                    unsafe { *p = v };
                 }
             }
             if !nextEventTime.is_null() {

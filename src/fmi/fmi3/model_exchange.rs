@@ -39,7 +39,8 @@ pub unsafe extern "C" fn fmi3EnterContinuousTimeMode(instance: fmi3Instance) -> 
     )
 }
 
-/// A completed integrator step: no event, no termination.
+/// A completed integrator step: an event asked for when a free body's quaternion must be
+/// normalised (in the event update), never a termination.
 ///
 /// # Safety
 /// `instance` is an instance; the two flags are writable.

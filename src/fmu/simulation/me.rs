@@ -110,6 +110,24 @@ impl Simulation {
         Ok(self.continuous()?.completed_step())
     }
 
+    /// Whether [`Simulation::completed_step`] would change the states now, the states
+    /// left as they are: FMI lets a model change its continuous states in Event Mode
+    /// only, so at fmi2CompletedIntegratorStep the model asks for an event with this and
+    /// changes them in fmi2NewDiscreteStates. Allocates nothing.
+    pub fn completed_step_due(&mut self) -> Result<bool, SimulationError> {
+        self.fill_continuous()?;
+        let t = self.time;
+        let Some(c) = self.solver.as_mut().and_then(|s| s.continuous()) else {
+            return Err(SimulationError::NoSolver);
+        };
+        if !c.completed_step() {
+            return Ok(false);
+        }
+        // Back to the states as the master left them.
+        c.set_states(t, &self.xs)?;
+        Ok(true)
+    }
+
     /// The continuous states (fmi2GetContinuousStates).
     pub fn states(&mut self, out: &mut [f64]) -> Result<(), SimulationError> {
         self.fill(out, |c, o| c.states(o))

@@ -8,6 +8,7 @@
 use super::{Causality, Kind, Quantity, VarTable, Variable};
 use crate::fmu::options::SceneOptions;
 use crate::scene::Scene;
+use crate::solver::free::continuous::RIGID_STATES;
 
 impl VarTable {
     /// The table of an FMU packed with `opts`: the scene's variables, the packed method
@@ -23,47 +24,89 @@ impl VarTable {
         }
     }
 
-    /// The table with the continuous states and their derivatives appended: `modal.q[j]`
-    /// and `modal.qd[j]` for each kept local mode `j` (1-based, in the body's order),
-    /// then `der(...)` of each, in the same order. A free body's states (frame position,
-    /// orientation, velocities) have no variables yet: the scene check refuses Model
-    /// Exchange for it ([`crate::scene::io::make_scene`]).
+    /// The table with the continuous states and their derivatives appended, in the
+    /// method's order ([`crate::solver::continuous`]), then `der(...)` of each, in the
+    /// same order. A blocked body: `modal.q[j]` and `modal.qd[j]` for each kept local
+    /// mode `j` (1-based, in the body's order). A free body (the split method's first-order
+    /// form, [`crate::solver::free::continuous`]): first `state.X[1..3]` (the frame point
+    /// L0, global), `state.quat[1..4]` (the attitude quaternion `(w, x, y, z)`),
+    /// `state.V[1..3]` (L0's velocity, global), `state.omega[1..3]` (the frame's angular
+    /// velocity, global components), then `modal.q[j]` and `modal.qd[j]` in the split
+    /// method's modal basis.
     pub fn with_states(mut self, scene: &Scene) -> VarTable {
         let nl = scene.body.nl();
+        let free = self.free;
         let hz = |j: usize| {
+            if free {
+                // The split basis mixes the body's local modes.
+                return String::new();
+            }
             scene
                 .body
                 .frequencies_hz
                 .get(j)
                 .map_or(String::new(), |f| format!(", {} Hz", crate::num::num(*f)))
         };
-        let mut states = Vec::with_capacity(2 * nl);
+        let mode = if free {
+            "mode of the split basis"
+        } else {
+            "local mode"
+        };
+        let mut states = Vec::with_capacity(RIGID_STATES + 2 * nl);
+        if free {
+            let rigid: [(&str, &str, usize); 4] = [
+                ("X", "Position of the frame point L0, global component", 3),
+                (
+                    "quat",
+                    "Attitude quaternion of the frame, component (w, x, y, z)",
+                    4,
+                ),
+                ("V", "Velocity of the frame point L0, global component", 3),
+                (
+                    "omega",
+                    "Angular velocity of the frame, global component",
+                    3,
+                ),
+            ];
+            for (name, description, len) in rigid {
+                for c in 1..=len {
+                    states.push((format!("state.{name}[{c}]"), format!("{description} {c}")));
+                }
+            }
+        }
         for j in 0..nl {
             states.push((
                 format!("modal.q[{}]", j + 1),
-                format!("Modal amplitude of local mode {}{}", j + 1, hz(j)),
+                format!("Modal amplitude of {mode} {}{}", j + 1, hz(j)),
             ));
         }
         for j in 0..nl {
             states.push((
                 format!("modal.qd[{}]", j + 1),
-                format!("Modal velocity of local mode {}{}", j + 1, hz(j)),
+                format!("Modal velocity of {mode} {}{}", j + 1, hz(j)),
             ));
         }
         let n = states.len();
+        let rigid = if free { RIGID_STATES } else { 0 };
         for (i, (name, description)) in states.iter().enumerate() {
             let vr = self.vars.len() as u32;
             self.vars.push(Variable {
                 name: name.clone(),
                 vr,
                 causality: Causality::Local,
-                start: Some(0.0),
+                // A free body's frame states are calculated at initialisation (the
+                // body's placement, v0 and w0); the modes start at rest.
+                start: (i >= rigid).then_some(0.0),
                 kind: Kind::State(i),
                 quantity: Quantity::None,
                 description: format!(
-                    "{description}: continuous state {} of {n} (Model Exchange), at rest at \
-                     the start",
-                    i + 1
+                    "{description}: continuous state {} of {n} (Model Exchange), {}",
+                    i + 1,
+                    if i >= rigid {
+                        "at rest at the start"
+                    } else {
+                        "calculated at initialisation"
+                    }
                 ),
             });
         }

@@ -18,12 +18,14 @@
 use std::collections::BTreeMap;
 use std::ptr::{null, null_mut};
 
-use crate::common::fmu::{Packed, Slave, packed_me, print_counts};
+use crate::common::fmu::{Packed, Slave, packed_me, packed_with, print_counts};
 use fxbody::fmi::exports::*;
 use fxbody::fmi::fmu_state::*;
 use fxbody::fmi::model_exchange::*;
 use fxbody::fmi::types::*;
 use fxbody::fmi::values::*;
+use fxbody::fmu::fmi_version::FmiVersion;
+use fxbody::fmu::interface::Interfaces;
 use fxbody::fmu::vars::Kind;
 
 /// A Model Exchange instance initialised and in Continuous-Time Mode.
@@ -531,4 +533,148 @@ fn fmi3_model_exchange_matches_fmi2_bit_for_bit() {
         s3.last_error()
     );
     assert!(s3.fingerprint() == print);
+}
+
+/// The names of the continuous states as modelDescription.xml declares them: each
+/// derivative's `derivative` attribute (the state's 1-based index among the
+/// ScalarVariables), in the derivatives' order.
+fn declared_states(xml: &str) -> Vec<String> {
+    let vars: Vec<&str> = xml.split("<ScalarVariable name=\"").skip(1).collect();
+    let name = |v: &str| v[..v.find('"').unwrap()].to_string();
+    vars.iter()
+        .filter_map(|v| {
+            let at = v.find("derivative=\"")? + "derivative=\"".len();
+            let k: usize = v[at..at + v[at..].find('"').unwrap()].parse().unwrap();
+            Some(name(vars[k - 1]))
+        })
+        .collect()
+}
+
+/// A free body's Model Exchange instance (issue 26.2-26.3), the free-free beam with its
+/// tip exposed: the instance's state count and the state names are the description's
+/// (13 frame states, then the 10 modes' amplitudes and velocities);
+/// fmi2GetDirectionalDerivative is refused with a logged reason naming
+/// providesDirectionalDerivative (declared false), the model unchanged; a quaternion
+/// 1e-6 off unit norm makes fmi2CompletedIntegratorStep ask for an event without
+/// touching the states (FMI changes continuous states in Event Mode only), and
+/// fmi2NewDiscreteStates normalises it (to 1e-15) and reports
+/// valuesOfContinuousStatesChanged, every other state kept; a unit quaternion asks for
+/// nothing.
+#[test]
+fn a_free_body_declares_its_states_refuses_the_jacobian_and_normalises_at_events() {
+    let fx = packed_with(
+        "me_free",
+        "freefree",
+        521,
+        None,
+        FmiVersion::Fmi2,
+        Interfaces::ModelExchange,
+    );
+    let xml = std::fs::read_to_string(fx.dir.join("modelDescription.xml")).unwrap();
+    let declared = declared_states(&xml);
+    let mut expected: Vec<String> = Vec::new();
+    for (name, len) in [("X", 3), ("quat", 4), ("V", 3), ("omega", 3)] {
+        expected.extend((1..=len).map(|c| format!("state.{name}[{c}]")));
+    }
+    expected.extend((1..=10).map(|j| format!("modal.q[{j}]")));
+    expected.extend((1..=10).map(|j| format!("modal.qd[{j}]")));
+    assert_eq!(declared, expected);
+    assert!(xml.contains("providesDirectionalDerivative=\"false\""));
+    let n = declared.len();
+    assert_eq!(fx.p.table.state_count(), n);
+
+    let s = in_continuous_time(&fx);
+    let mut x = vec![0.0; n];
+    unsafe {
+        assert_eq!(fmi2GetContinuousStates(s.c, x.as_mut_ptr(), n), fmi2OK);
+    }
+    // A unit attitude at the start (the body's placement P0, a 35 degree rotation).
+    let norm = |x: &[f64]| x[3..7].iter().map(|q| q * q).sum::<f64>().sqrt();
+    assert!((norm(&x) - 1.0).abs() < 1e-15, "{}", norm(&x));
+    assert!(
+        x[3] < 1.0 - 1e-3,
+        "P0 is not the identity: q = {:?}",
+        &x[3..7]
+    );
+
+    // The Jacobian: refused, logged, nothing changed.
+    let der = refs(&fx, |k| k == Kind::Derivative(7));
+    let state = refs(&fx, |k| k == Kind::State(3));
+    let before = s.fingerprint();
+    let mut v = 0.0;
+    let st = unsafe {
+        fmi2GetDirectionalDerivative(s.c, der.as_ptr(), 1, state.as_ptr(), 1, &1.0, &mut v)
+    };
+    assert_eq!(st, fmi2Error);
+    let why = s.last_error();
+    assert!(why.contains("providesDirectionalDerivative false"), "{why}");
+    assert_eq!(s.fingerprint(), before);
+
+    // A fresh instance for the event: the refusal left the first in the Error state.
+    drop(s);
+    let s = in_continuous_time(&fx);
+    let (mut enter, mut term) = (fmi2True, fmi2True);
+    unsafe {
+        assert_eq!(
+            fmi2CompletedIntegratorStep(s.c, fmi2True, &mut enter, &mut term),
+            fmi2OK
+        );
+    }
+    assert_eq!(
+        (enter, term),
+        (fmi2False, fmi2False),
+        "a unit quaternion moves nothing"
+    );
+    let mut drifted = x.clone();
+    for q in &mut drifted[3..7] {
+        *q *= 1.0 + 1e-6;
+    }
+    let mut read = vec![0.0; n];
+    unsafe {
+        assert_eq!(fmi2SetContinuousStates(s.c, drifted.as_ptr(), n), fmi2OK);
+        assert_eq!(
+            fmi2CompletedIntegratorStep(s.c, fmi2True, &mut enter, &mut term),
+            fmi2OK
+        );
+        assert_eq!((enter, term), (fmi2True, fmi2False));
+        assert_eq!(fmi2GetContinuousStates(s.c, read.as_mut_ptr(), n), fmi2OK);
+    }
+    assert_eq!(
+        read[3..7],
+        drifted[3..7],
+        "the states changed outside Event Mode"
+    );
+    let mut info = fmi2EventInfo {
+        newDiscreteStatesNeeded: fmi2True,
+        terminateSimulation: fmi2True,
+        nominalsOfContinuousStatesChanged: fmi2True,
+        valuesOfContinuousStatesChanged: fmi2False,
+        nextEventTimeDefined: fmi2True,
+        nextEventTime: 1.0,
+    };
+    unsafe {
+        assert_eq!(fmi2EnterEventMode(s.c), fmi2OK);
+        assert_eq!(fmi2NewDiscreteStates(s.c, &mut info), fmi2OK);
+        assert_eq!(fmi2GetContinuousStates(s.c, read.as_mut_ptr(), n), fmi2OK);
+    }
+    assert_eq!(info.valuesOfContinuousStatesChanged, fmi2True);
+    assert_eq!(info.newDiscreteStatesNeeded, fmi2False);
+    assert!((norm(&read) - 1.0).abs() < 1e-15, "{}", norm(&read));
+    for i in 0..n {
+        let want = if (3..7).contains(&i) {
+            x[i]
+        } else {
+            drifted[i]
+        };
+        assert!(
+            (read[i] - want).abs() <= 1e-15 * want.abs().max(1.0),
+            "state {i}: {} for {want}",
+            read[i]
+        );
+    }
+    // A second event iteration changes nothing more.
+    unsafe {
+        assert_eq!(fmi2NewDiscreteStates(s.c, &mut info), fmi2OK);
+    }
+    assert_eq!(info.valuesOfContinuousStatesChanged, fmi2False);
 }
