@@ -12,7 +12,9 @@ use super::xml::model_description;
 use super::zip::{Entry, write};
 use crate::body;
 use crate::fxb::coords;
-use crate::fxb::input::{InputError, Limit, check_input, describe, read_bounded, read_input};
+use crate::fxb::input::{
+    Input, InputError, Limit, check_input, describe, read_bounded, read_input,
+};
 use crate::scene::Scene;
 use crate::scene::file as scenefile;
 use crate::scene::io::{
@@ -172,7 +174,9 @@ pub fn prepare(
     let mut notes: Vec<PackNote> = body.warnings.iter().cloned().map(PackNote::Body).collect();
     let xyz = match &req.coords {
         Some(p) => coords::read_coords(p).map_err(|e| match e {
-            coords::CoordsError::Io { source, .. } => InputError::new("--coords", p, source).into(),
+            coords::CoordsError::Io { source, .. } => {
+                InputError::new(Input::Coords, p, source).into()
+            }
             e => PackError::from(e),
         })?,
         None => match coords_from_rigid_modes(&body) {
@@ -397,12 +401,12 @@ pub fn refuse_overwrite(out: &Path, inputs: &[(&str, &Path)]) -> Result<(), Pack
 /// ([`Limit::Library`]); the message says what it is instead.
 pub fn find_library(explicit: Option<&Path>) -> Result<PathBuf, PackError> {
     if let Some(p) = explicit {
-        check_input("--lib", p, Limit::Library)?;
+        check_input(Input::Library, p, Limit::Library)?;
         return Ok(p.to_path_buf());
     }
     if let Some(p) = std::env::var_os("FXBODY_LIB") {
         let p = PathBuf::from(p);
-        check_input("FXBODY_LIB=", &p, Limit::Library)?;
+        check_input(Input::LibraryEnv, &p, Limit::Library)?;
         return Ok(p);
     }
     let exe = std::env::current_exe().map_err(PackError::Exe)?;
@@ -534,10 +538,10 @@ pub fn pack(
     refuse_overwrite(out, &inputs)?;
     let p = prepare(req, popts, progress)?;
     super::osp::check_osp_target(out, &p.options.name)?;
-    let lib_bytes = read_input("--lib", lib, Limit::Library)?;
+    let lib_bytes = read_input(Input::Library, lib, Limit::Library)?;
     super::platforms::check_library(super::platforms::NATIVE, &lib_bytes).map_err(|why| {
         InputError::new(
-            "--lib",
+            Input::Library,
             lib,
             std::io::Error::new(std::io::ErrorKind::InvalidData, why),
         )

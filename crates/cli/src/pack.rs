@@ -10,9 +10,11 @@ use std::path::PathBuf;
 use fxbody::fmu::fmi_version::FmiVersion;
 use fxbody::fmu::interface::Interfaces;
 use fxbody::fmu::options::method_by_name;
+use fxbody::fmu::osp::OspClash;
 use fxbody::fmu::pack::{
     Fmax, PackError, PackNote, PackOptions, PackRequest, find_library, pack, refuse_overwrite,
 };
+use fxbody::fxb::input::Input;
 use fxbody::num::{count, num};
 
 /// Arguments of `pack`.
@@ -218,6 +220,22 @@ pub fn worded(e: &PackError, output: &str) -> String {
             format!("{e}: give --name")
         }
         PackError::Overwrite { .. } => format!("{output} {e}"),
+        PackError::Osp(OspClash::OtherFmu { .. }) => {
+            format!("{output} {e}; give this pack another --name, or another folder")
+        }
+        PackError::Osp(OspClash::NotOurs { .. }) => {
+            format!("{output} {e}; move it away, or give this pack another --name")
+        }
+        PackError::Input(i) => {
+            let name = match &i.input {
+                Input::Coords => "--coords".to_string(),
+                Input::Library => "--lib".to_string(),
+                other => other.to_string(),
+            };
+            let mut text = String::new();
+            let _ = i.worded(&name, &mut text);
+            text
+        }
         PackError::LibNotFound(_) => format!("{e}, or give --lib PATH"),
         PackError::Time { what, value } => format!(
             "--{what}: expected a time > 0 (s), found {}",
