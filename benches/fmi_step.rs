@@ -15,7 +15,7 @@ use std::path::PathBuf;
 use std::process::Command;
 use std::time::Instant;
 
-use fxbody::fmu::pack::{PackRequest, find_library, pack};
+use fxbody::fmu::pack::{PackOptions, PackRequest, find_library, pack};
 use fxbody::scene::Scene;
 use fxbody::scene::io::load_resources;
 use fxbody::solver::{self, Method, Options, Solver};
@@ -60,7 +60,7 @@ fn main() {
         name: Some("bench".into()),
         ..PackRequest::default()
     };
-    let p = pack(&req, &lib, &fmu).unwrap();
+    let p = pack(&req, &PackOptions::default(), &lib, &fmu, None).unwrap();
     for (name, data) in fxbody_host::zip::read(&std::fs::read(&fmu).unwrap()).unwrap() {
         let path = tmp.join(&name);
         std::fs::create_dir_all(path.parent().unwrap()).unwrap();

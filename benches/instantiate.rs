@@ -14,7 +14,7 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
-use fxbody::fmu::pack::{PackRequest, find_library, pack};
+use fxbody::fmu::pack::{PackOptions, PackRequest, find_library, pack};
 use fxbody::fmu::simulation::Simulation;
 use fxbody::fmu::{hash::content_guid, options::SceneOptions};
 use fxbody::fxb::coords;
@@ -63,7 +63,7 @@ fn main() {
     };
     let fmu = tmp.join("large2.fmu");
     let t = Instant::now();
-    let p = pack(&req, &lib, &fmu).unwrap();
+    let p = pack(&req, &PackOptions::default(), &lib, &fmu, None).unwrap();
     let pack_s = t.elapsed().as_secs_f64();
     let with_source = tmp.join("large2_src.fmu");
     pack(
@@ -71,8 +71,10 @@ fn main() {
             embed_source: true,
             ..req.clone()
         },
+        &PackOptions::default(),
         &lib,
         &with_source,
+        None,
     )
     .unwrap();
     let size = |p: &PathBuf| std::fs::metadata(p).unwrap().len() as f64 / 1e6;

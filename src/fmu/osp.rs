@@ -51,13 +51,15 @@ fn recorded_name(fmu: &Path) -> String {
 }
 
 /// Why the OSP model description of a pack cannot be written where libcosim looks for it.
+/// The messages name the files; the way out (another model name, another folder) is the
+/// command's to word with its options.
 #[derive(Debug, thiserror::Error)]
 pub enum OspClash {
     /// It describes another `.fmu` of the same model name, still in the folder.
     #[error(
-        "-o {}: {} describes {other}, another FMU of the model name '{name}' in this folder, \
+        "{}: {} describes {other}, another FMU of the model name '{name}' in this folder, \
          and libcosim finds an FMU's OSP description by its model name: writing this pack's \
-         would make it describe the wrong FMU; give this pack another --name, or another folder",
+         would make it describe the wrong FMU",
         .fmu.display(), .osp.display()
     )]
     OtherFmu {
@@ -72,8 +74,7 @@ pub enum OspClash {
     },
     /// It was not written by `fxbody pack` (or is unreadable): never overwritten.
     #[error(
-        "-o {}: {} exists and was not written by fxbody pack ({why}): refusing to overwrite it; \
-         move it away, or give this pack another --name",
+        "{}: {} exists and was not written by fxbody pack ({why}): refusing to overwrite it",
         .fmu.display(), .osp.display()
     )]
     NotOurs {

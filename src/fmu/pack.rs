@@ -12,8 +12,9 @@ use super::xml::model_description;
 use super::zip::{Entry, write};
 use crate::body;
 use crate::fxb::coords;
-use crate::fxb::input::{InputError, Limit, check_input, describe, read_bounded, read_input};
-use crate::num::num;
+use crate::fxb::input::{
+    Input, InputError, Limit, check_input, describe, read_bounded, read_input,
+};
 use crate::scene::Scene;
 use crate::scene::file as scenefile;
 use crate::scene::io::{
@@ -22,7 +23,9 @@ use crate::scene::io::{
 
 mod error;
 pub mod experiment;
+mod note;
 pub use error::{MAX_NAME, NameError, PackError, check_name, reserved};
+pub use note::PackNote;
 
 /// What to pack.
 #[derive(Debug, Clone, Default)]
@@ -46,21 +49,37 @@ pub struct PackRequest {
 /// method's start value and libraries for other platforms.
 #[derive(Debug, Clone, Default)]
 pub struct PackOptions {
-    /// `--fmax HZ|auto`.
+    /// Mode truncation (default: every mode kept). The scene (here and in the FMU, from
+    /// the full file) keeps the modes up to it plus the residual flexibility of the rest
+    /// ([`crate::scene::reduce`]).
     pub fmax: Option<Fmax>,
-    /// `--step H` (s): the DefaultExperiment step size (and `--fmax auto`'s H).
+    /// The DefaultExperiment step size, s (and [`Fmax::Auto`]'s H); default derived
+    /// from the lowest mode.
     pub step: Option<f64>,
-    /// `--stop T` (s): the DefaultExperiment stop time.
+    /// The DefaultExperiment stop time, s.
     pub stop: Option<f64>,
-    /// `--method`: the `method` parameter's start value.
+    /// The `method` parameter's start value.
     pub method: Option<crate::solver::Method>,
-    /// `--binary PLATFORM=PATH`: libraries built on other platforms.
+    /// Libraries built on other platforms, by FMI 2.0 platform name.
     pub binaries: Vec<(String, PathBuf)>,
-    /// `--fmi 2|3`: the FMI version of the model description (default 2.0).
+    /// The FMI version of the model description (default 2.0).
     pub fmi: FmiVersion,
-    /// `--interface cs|me|both`: the interfaces the FMU declares (default co-simulation).
+    /// The interfaces the FMU declares (default co-simulation).
     pub interface: super::interface::Interfaces,
 }
+
+/// Mode truncation asked of `pack` ([`PackOptions::fmax`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Fmax {
+    /// Keep the modes up to this frequency, Hz.
+    Hz(f64),
+    /// Twice the Nyquist frequency 1/(2H) of the DefaultExperiment step H, i.e. 1/H.
+    Auto,
+}
+
+/// Told (bytes parsed, total) while the body file is read
+/// ([`body::LoadOptions::progress`]).
+pub type Progress<'a> = Option<&'a mut dyn FnMut(u64, u64)>;
 
 /// A scene ready to be described or packed.
 pub struct Prepared {
@@ -82,8 +101,8 @@ pub struct Prepared {
     pub options_text: String,
     /// modelDescription.xml.
     pub xml: String,
-    /// Notes for the user (derived coordinates, body warnings).
-    pub notes: Vec<String>,
+    /// Notes for the user (derived coordinates, truncation, warnings), as data.
+    pub notes: Vec<PackNote>,
     /// Libraries for other platforms (`--binary`), by FMI 2.0 platform name.
     pub other_binaries: Vec<(String, Vec<u8>)>,
     /// The FMI version the description and the archive's layout follow.
@@ -101,45 +120,14 @@ impl Prepared {
     }
 }
 
-/// Read and check everything, and generate the description (no library needed).
-pub fn prepare(req: &PackRequest) -> Result<Prepared, PackError> {
-    prepare_with(req, None)
-}
-
-/// Mode truncation asked of `pack` (`--fmax HZ|auto`).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Fmax {
-    /// Keep the modes up to this frequency, Hz.
-    Hz(f64),
-    /// Twice the Nyquist frequency 1/(2H) of the DefaultExperiment step H, i.e. 1/H.
-    Auto,
-}
-
-/// [`prepare`] with mode truncation: the options carry the resolved fmax, and the scene
-/// (here and in the FMU, from the full file) keeps the modes up to it plus the residual
-/// flexibility of the rest ([`crate::scene::reduce`]).
-pub fn prepare_with(req: &PackRequest, fmax: Option<Fmax>) -> Result<Prepared, PackError> {
-    prepare_opts(
-        req,
-        &PackOptions {
-            fmax,
-            ..PackOptions::default()
-        },
-    )
-}
-
-/// [`prepare`] with every pack option ([`PackOptions`]); the libraries of `--binary`
-/// are checked here, before anything is written.
-pub fn prepare_opts(req: &PackRequest, popts: &PackOptions) -> Result<Prepared, PackError> {
-    prepare_reporting(req, popts, &mut |_, _| {})
-}
-
-/// [`prepare_opts`], telling `progress` (bytes parsed, total) while the body file is
-/// read ([`body::LoadOptions::progress`]).
-pub fn prepare_reporting(
+/// Read and check everything, and generate the description (no library needed): the
+/// one way to a [`Prepared`] scene. The libraries of [`PackOptions::binaries`] are
+/// checked here, before anything is written; `progress` is told while the body file is
+/// read.
+pub fn prepare(
     req: &PackRequest,
     popts: &PackOptions,
-    progress: &mut dyn FnMut(u64, u64),
+    progress: Progress<'_>,
 ) -> Result<Prepared, PackError> {
     for (what, v) in [("step", popts.step), ("stop", popts.stop)] {
         if let Some(value) = v
@@ -179,22 +167,21 @@ pub fn prepare_reporting(
         &req.body,
         body::LoadOptions {
             keep_bytes: req.embed_source.then_some(&mut body_bytes),
-            progress: Some(progress),
+            // Coerced to the load's shorter lifetime, which `keep_bytes` shares.
+            progress: progress.map(|p| p as &mut dyn FnMut(u64, u64)),
         },
     )?;
-    let mut notes: Vec<String> = body
-        .warnings
-        .iter()
-        .map(|w| format!("warning: {w}"))
-        .collect();
+    let mut notes: Vec<PackNote> = body.warnings.iter().cloned().map(PackNote::Body).collect();
     let xyz = match &req.coords {
         Some(p) => coords::read_coords(p).map_err(|e| match e {
-            coords::CoordsError::Io { source, .. } => InputError::new("--coords", p, source).into(),
+            coords::CoordsError::Io { source, .. } => {
+                InputError::new(Input::Coords, p, source).into()
+            }
             e => PackError::from(e),
         })?,
         None => match coords_from_rigid_modes(&body) {
             Some(c) => {
-                notes.push("no --coords: node coordinates derived from the rigid modes, frame origin L0 at (0, 0, 0)".into());
+                notes.push(PackNote::CoordsDerived);
                 c
             }
             None => {
@@ -207,13 +194,10 @@ pub fn prepare_reporting(
         && let Some(o) =
             crate::body::placement::check_coords(&body, &map, &c.display().to_string(), &body_name)?
     {
-        notes.push(format!(
-            "{}: node positions match the rigid modes; frame origin L0 placed at ({}, {}, {})",
-            c.display(),
-            num(o[0]),
-            num(o[1]),
-            num(o[2])
-        ));
+        notes.push(PackNote::OriginPlaced {
+            coords: c.clone(),
+            origin: o,
+        });
     }
     let nodes = req.nodes.clone().unwrap_or_else(|| body.node_ids.clone());
     for id in &nodes {
@@ -261,11 +245,10 @@ pub fn prepare_reporting(
                     super::xml::default_experiment(&probe).1
                 }
             };
-            notes.push(format!(
-                "--fmax auto: {} Hz, twice the Nyquist frequency 1/(2H) of the DefaultExperiment step H = {} s",
-                num(1.0 / h),
-                num(h)
-            ));
+            notes.push(PackNote::FmaxAuto {
+                hz: 1.0 / h,
+                step: h,
+            });
             Some(1.0 / h)
         }
     };
@@ -274,24 +257,16 @@ pub fn prepare_reporting(
         let kept = basis.count_below(f);
         let first = basis.frequencies_hz().first().copied().unwrap_or(0.0);
         if kept == 0 {
-            notes.push(format!(
-                "warning: --fmax {} Hz is below the first mode ({} Hz): no mode kept, the body follows its loads only quasi-statically (residual flexibility); raise --fmax to keep modes",
-                num(f),
-                num(first)
-            ));
+            notes.push(PackNote::FmaxBelowFirstMode { fmax: f, first });
         }
         if kept == body.nl() {
-            notes.push(format!(
-                "--fmax {} Hz: all {kept} modes kept (every mode is below it), no residual correction",
-                num(f)
-            ));
+            notes.push(PackNote::FmaxKeepsAll { fmax: f, kept });
         } else {
-            notes.push(format!(
-            "--fmax {} Hz: {kept} of {} modes kept, the other {} by their static (residual-flexibility) contribution; positions, rotations and strain energy now depend on the same-instant loads",
-            num(f),
-            body.nl(),
-            body.nl() - kept
-        ));
+            notes.push(PackNote::FmaxKeeps {
+                fmax: f,
+                kept,
+                total: body.nl(),
+            });
         }
     }
     match &req.name {
@@ -311,9 +286,10 @@ pub fn prepare_reporting(
             .iter()
             .any(|m| (6 * n..6 * n + 6).any(|r| m.row(r).iter().any(|&v| v != 0.0)));
         if !moved {
-            notes.push(format!(
-                "warning: node {id} is fully blocked: no mode of {body_name} moves it, so its outputs stay at their initial values and loads on it do nothing"
-            ));
+            notes.push(PackNote::NodeBlocked {
+                id,
+                body: body_name.clone(),
+            });
         }
     }
     let options = SceneOptions {
@@ -357,11 +333,10 @@ pub fn prepare_reporting(
         options.stop.is_some(),
     ));
     if all_exposed && table.vars.len() > 1000 {
-        notes.push(format!(
-            "warning: all {} nodes are exposed, which makes {} variables; expose only the nodes the scene couples to (--nodes or --nodes-file)",
-            scene.nodes.len(),
-            table.vars.len()
-        ));
+        notes.push(PackNote::AllNodesExposed {
+            nodes: scene.nodes.len(),
+            variables: table.vars.len(),
+        });
     }
     let mut p = Prepared {
         scene,
@@ -426,12 +401,12 @@ pub fn refuse_overwrite(out: &Path, inputs: &[(&str, &Path)]) -> Result<(), Pack
 /// ([`Limit::Library`]); the message says what it is instead.
 pub fn find_library(explicit: Option<&Path>) -> Result<PathBuf, PackError> {
     if let Some(p) = explicit {
-        check_input("--lib", p, Limit::Library)?;
+        check_input(Input::Library, p, Limit::Library)?;
         return Ok(p.to_path_buf());
     }
     if let Some(p) = std::env::var_os("FXBODY_LIB") {
         let p = PathBuf::from(p);
-        check_input("FXBODY_LIB=", &p, Limit::Library)?;
+        check_input(Input::LibraryEnv, &p, Limit::Library)?;
         return Ok(p);
     }
     let exe = std::env::current_exe().map_err(PackError::Exe)?;
@@ -515,7 +490,10 @@ pub fn resource_entries(p: &Prepared) -> Vec<Entry> {
         .collect()
 }
 
-/// Pack `req` with the library at `lib` into `out`. Returns the prepared scene.
+/// Pack `req` with the options `popts` and the library at `lib` into `out` ([`prepare`]);
+/// also writes the OSP model description beside the archive
+/// ([`super::osp::osp_path`]), refusing before anything is written when that file
+/// describes another FMU ([`super::osp::check_osp_target`]). Returns the prepared scene.
 ///
 /// A program next to `libfxbody.so` finds it with [`find_library`]`(None)`; this
 /// example, run by the tests from elsewhere, takes the one cargo built, and reads the
@@ -524,7 +502,7 @@ pub fn resource_entries(p: &Prepared) -> Vec<Entry> {
 /// ```
 /// use std::path::Path;
 ///
-/// use fxbody::fmu::pack::{PackRequest, pack};
+/// use fxbody::fmu::pack::{PackOptions, PackRequest, pack};
 ///
 /// let root = Path::new(env!("CARGO_MANIFEST_DIR"));
 /// # let lib = ["release", "debug"].iter().map(|p| root.join("target").join(p).join("libfxbody.so"))
@@ -537,7 +515,7 @@ pub fn resource_entries(p: &Prepared) -> Vec<Entry> {
 /// };
 /// let dir = std::env::temp_dir().join(format!("fxbody_doc_pack_{}", std::process::id()));
 /// std::fs::create_dir_all(&dir)?;
-/// let prepared = pack(&req, &lib, &dir.join("tip.fmu"))?;
+/// let prepared = pack(&req, &PackOptions::default(), &lib, &dir.join("tip.fmu"), None)?;
 /// assert!(prepared.table.vars.iter().any(|v| v.name == "node_121.fy"));
 /// let files = fxbody_host::zip::read(&std::fs::read(dir.join("tip.fmu"))?)?;
 /// let names: Vec<&str> = files.iter().map(|(name, _)| name.as_str()).collect();
@@ -546,59 +524,24 @@ pub fn resource_entries(p: &Prepared) -> Vec<Entry> {
 /// std::fs::remove_dir_all(&dir)?;
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
-pub fn pack(req: &PackRequest, lib: &Path, out: &Path) -> Result<Prepared, PackError> {
-    pack_with(req, None, lib, out)
-}
-
-/// [`pack`] with mode truncation ([`prepare_with`]).
-pub fn pack_with(
-    req: &PackRequest,
-    fmax: Option<Fmax>,
-    lib: &Path,
-    out: &Path,
-) -> Result<Prepared, PackError> {
-    pack_opts(
-        req,
-        &PackOptions {
-            fmax,
-            ..PackOptions::default()
-        },
-        lib,
-        out,
-    )
-}
-
-/// [`pack`] with every pack option ([`prepare_opts`]); also writes the OSP model
-/// description beside the archive ([`super::osp::osp_path`]), refusing before anything
-/// is written when that file describes another FMU ([`super::osp::check_osp_target`]).
-pub fn pack_opts(
+pub fn pack(
     req: &PackRequest,
     popts: &PackOptions,
     lib: &Path,
     out: &Path,
-) -> Result<Prepared, PackError> {
-    pack_reporting(req, popts, lib, out, &mut |_, _| {})
-}
-
-/// [`pack_opts`], telling `progress` (bytes parsed, total) while the body file is read.
-pub fn pack_reporting(
-    req: &PackRequest,
-    popts: &PackOptions,
-    lib: &Path,
-    out: &Path,
-    progress: &mut dyn FnMut(u64, u64),
+    progress: Progress<'_>,
 ) -> Result<Prepared, PackError> {
     let mut inputs: Vec<(&str, &Path)> = vec![("body file", &req.body), ("library", lib)];
     if let Some(c) = &req.coords {
         inputs.push(("coordinate file", c));
     }
     refuse_overwrite(out, &inputs)?;
-    let p = prepare_reporting(req, popts, progress)?;
+    let p = prepare(req, popts, progress)?;
     super::osp::check_osp_target(out, &p.options.name)?;
-    let lib_bytes = read_input("--lib", lib, Limit::Library)?;
+    let lib_bytes = read_input(Input::Library, lib, Limit::Library)?;
     super::platforms::check_library(super::platforms::NATIVE, &lib_bytes).map_err(|why| {
         InputError::new(
-            "--lib",
+            Input::Library,
             lib,
             std::io::Error::new(std::io::ErrorKind::InvalidData, why),
         )

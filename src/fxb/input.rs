@@ -198,13 +198,46 @@ fn read_whole(file: File, size: u64) -> io::Result<Vec<u8>> {
     Ok(bytes)
 }
 
-/// An input refused before it was read, naming the option it was given with (`--coords`,
-/// `--lib`, `FXBODY_LIB=`...), the path, and why: what the path is instead of a regular
-/// file, that it is missing, or that it is larger than its kind of file can need.
+/// Which input a refused path was given as. The library's own inputs are data (a
+/// command names the option that set them); a command's inputs carry the command's name
+/// for them.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Input {
+    /// A pack's node coordinate file.
+    Coords,
+    /// The FMU library a pack embeds, given by its caller.
+    Library,
+    /// The FMU library named by the `FXBODY_LIB` environment variable.
+    LibraryEnv,
+    /// An input a command named itself (its option, or an environment variable as
+    /// `NAME=`).
+    Named(String),
+}
+
+impl From<&str> for Input {
+    fn from(name: &str) -> Input {
+        Input::Named(name.into())
+    }
+}
+
+impl std::fmt::Display for Input {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Input::Coords => f.write_str("coordinate file"),
+            Input::Library => f.write_str("library"),
+            Input::LibraryEnv => f.write_str("FXBODY_LIB="),
+            Input::Named(name) => f.write_str(name),
+        }
+    }
+}
+
+/// An input refused before it was read: which input ([`Input`]), the path, and why:
+/// what the path is instead of a regular file, that it is missing, or that it is larger
+/// than its kind of file can need.
 #[derive(Debug)]
 pub struct InputError {
-    /// The option the path was given with (an environment variable as `NAME=`).
-    pub option: String,
+    /// Which input the path was given as.
+    pub input: Input,
     /// The path as given.
     pub path: PathBuf,
     /// Why it was refused.
@@ -213,14 +246,7 @@ pub struct InputError {
 
 impl std::fmt::Display for InputError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let sep = if self.option.ends_with('=') { "" } else { " " };
-        write!(
-            f,
-            "{}{sep}{}: {}",
-            self.option,
-            self.path.display(),
-            describe(&self.source)
-        )
+        self.worded(&self.input.to_string(), f)
     }
 }
 
@@ -240,27 +266,43 @@ pub fn describe(e: &io::Error) -> String {
 }
 
 impl InputError {
-    /// `source` as the refusal of `path`, given as `option`.
-    pub fn new(option: &str, path: &Path, source: io::Error) -> InputError {
+    /// `source` as the refusal of `path`, given as `input`.
+    pub fn new(input: impl Into<Input>, path: &Path, source: io::Error) -> InputError {
         InputError {
-            option: option.into(),
+            input: input.into(),
             path: path.to_path_buf(),
             source,
         }
     }
+
+    /// The message with the input called `name` (an option, or `NAME=` for an
+    /// environment variable): how a command words the library's inputs.
+    pub fn worded(&self, name: &str, f: &mut impl std::fmt::Write) -> std::fmt::Result {
+        let sep = if name.ends_with('=') { "" } else { " " };
+        write!(
+            f,
+            "{name}{sep}{}: {}",
+            self.path.display(),
+            describe(&self.source)
+        )
+    }
 }
 
-/// Check the input `path`, given as `option`, before anything reads it: a regular file
+/// Check the input `path`, given as `input`, before anything reads it: a regular file
 /// no larger than `limit` allows. Returns its size.
-pub fn check_input(option: &str, path: &Path, limit: Limit) -> Result<u64, InputError> {
+pub fn check_input(input: impl Into<Input>, path: &Path, limit: Limit) -> Result<u64, InputError> {
     open_bounded(path, limit)
         .map(|(_, size)| size)
-        .map_err(|e| InputError::new(option, path, e))
+        .map_err(|e| InputError::new(input, path, e))
 }
 
-/// Read the whole input `path`, given as `option`, checked as [`check_input`] says.
-pub fn read_input(option: &str, path: &Path, limit: Limit) -> Result<Vec<u8>, InputError> {
-    read_bounded(path, limit).map_err(|e| InputError::new(option, path, e))
+/// Read the whole input `path`, given as `input`, checked as [`check_input`] says.
+pub fn read_input(
+    input: impl Into<Input>,
+    path: &Path,
+    limit: Limit,
+) -> Result<Vec<u8>, InputError> {
+    read_bounded(path, limit).map_err(|e| InputError::new(input, path, e))
 }
 
 /// The archive format whose magic number `bytes` start with, if any.

@@ -7,7 +7,7 @@
 
 use std::path::PathBuf;
 
-use fxbody::fmu::pack::{PackRequest, prepare};
+use fxbody::fmu::pack::{PackOptions, PackRequest, prepare};
 use fxbody::fmu::simulation::{Phase, Simulation};
 use fxbody::fmu::vars::{Causality, Kind};
 
@@ -15,12 +15,16 @@ use crate::alloc_counter;
 
 fn run(body: &str, nodes: Option<Vec<i64>>, method: i32, h: f64) {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    let p = prepare(&PackRequest {
-        body: root.join(format!("fixtures/{body}.fxb")),
-        coords: Some(root.join(format!("fixtures/{body}.nodes.rad"))),
-        nodes,
-        ..PackRequest::default()
-    })
+    let p = prepare(
+        &PackRequest {
+            body: root.join(format!("fixtures/{body}.fxb")),
+            coords: Some(root.join(format!("fixtures/{body}.nodes.rad"))),
+            nodes,
+            ..PackRequest::default()
+        },
+        &PackOptions::default(),
+        None,
+    )
     .unwrap();
     let vr = |n: &str| p.table.vars.iter().find(|v| v.name == n).unwrap().vr;
     let reals: Vec<u32> = p

@@ -25,7 +25,7 @@ use fxbody::fmi::state::FmiState;
 use fxbody::fmi::types::*;
 use fxbody::fmu::fmi_version::FmiVersion;
 use fxbody::fmu::interface::Interfaces;
-use fxbody::fmu::pack::{PackOptions, PackRequest, Prepared, find_library, pack_opts};
+use fxbody::fmu::pack::{PackOptions, PackRequest, Prepared, find_library, pack};
 
 use super::fixture;
 
@@ -108,7 +108,7 @@ pub fn unpack_with(
         interface,
         ..PackOptions::default()
     };
-    let p = pack_opts(&req, &opts, &lib, &fmu).unwrap();
+    let p = pack(&req, &opts, &lib, &fmu, None).unwrap();
     extract(&fmu, dir);
     let so = dir.join(format!(
         "binaries/{}/{}.so",

@@ -20,7 +20,7 @@ use fxbody::fxb;
 use fxbody_import::fe::{self, Deck, SymMatrix};
 use fxbody_import::whole::spider::SpiderSpec;
 use fxbody_import::whole::{WholeModel, WholeOptions};
-use fxbody_import::{ImportError, Imported, Options, Support};
+use fxbody_import::{ImportError, Imported, Options, SingularHint, Support};
 
 /// Arguments of `import`.
 #[derive(Debug, clap::Args)]
@@ -299,6 +299,17 @@ fn worded(e: &ImportError) -> String {
         ImportError::CoordinatesNeeded => format!("{e}: give --coords"),
         ImportError::BadSpider(_) => format!("--spider: {e}"),
         ImportError::FmaxNeeded { .. } => format!("{e}: give --fmax"),
+        ImportError::SingularBlocked { hint, .. } => format!(
+            "{e}, or use --free{}",
+            match hint {
+                Some(SingularHint::RigidMotions) => {
+                    "; K's zero modes are exactly rigid motions: did you mean --free?"
+                }
+                Some(SingularHint::GiveCoords) =>
+                    "; for a free body give its coordinates (--coords)",
+                None => "",
+            }
+        ),
         _ => e.to_string(),
     }
 }
@@ -425,4 +436,31 @@ fn write(args: &ImportArgs, built: &Imported) -> Result<String, String> {
         }
     }
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The singular-K refusal reads as it did when the library wrote the options:
+    /// the hints are data, the command names --free and --coords.
+    #[test]
+    fn singular_blocked_hints_name_the_options() {
+        let e = |hint| ImportError::SingularBlocked {
+            zero: 6,
+            first: String::new(),
+            hint,
+        };
+        let base = "K is singular (6 zero-energy modes): apply the supports before reduction, \
+                    or use --free";
+        assert_eq!(worded(&e(None)), base);
+        assert_eq!(
+            worded(&e(Some(SingularHint::RigidMotions))),
+            format!("{base}; K's zero modes are exactly rigid motions: did you mean --free?")
+        );
+        assert_eq!(
+            worded(&e(Some(SingularHint::GiveCoords))),
+            format!("{base}; for a free body give its coordinates (--coords)")
+        );
+    }
 }

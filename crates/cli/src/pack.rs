@@ -10,10 +10,12 @@ use std::path::PathBuf;
 use fxbody::fmu::fmi_version::FmiVersion;
 use fxbody::fmu::interface::Interfaces;
 use fxbody::fmu::options::method_by_name;
+use fxbody::fmu::osp::OspClash;
 use fxbody::fmu::pack::{
-    Fmax, PackError, PackOptions, PackRequest, find_library, pack_reporting, refuse_overwrite,
+    Fmax, PackError, PackNote, PackOptions, PackRequest, find_library, pack, refuse_overwrite,
 };
-use fxbody::num::count;
+use fxbody::fxb::input::Input;
+use fxbody::num::{count, num};
 
 /// Arguments of `pack`.
 #[derive(Debug, clap::Args)]
@@ -169,13 +171,17 @@ pub fn run(args: &PackArgs) -> Result<(), String> {
         None => None,
     };
     let progress = super::progress::Progress::start("packing");
-    let p = pack_reporting(&req, &popts, &lib, &args.output, &mut |done, total| {
-        progress.update(done, total)
-    })
+    let p = pack(
+        &req,
+        &popts,
+        &lib,
+        &args.output,
+        Some(&mut |done, total| progress.update(done, total)),
+    )
     .map_err(|e| worded(&e, "-o"))?;
     drop(progress);
     for n in &p.notes {
-        eprintln!("fxbody pack: {n}");
+        eprintln!("fxbody pack: {}", note_worded(n));
     }
     if let (Some(h), Some(prefix)) = (&args.header, &header_prefix) {
         std::fs::write(
@@ -214,6 +220,22 @@ pub fn worded(e: &PackError, output: &str) -> String {
             format!("{e}: give --name")
         }
         PackError::Overwrite { .. } => format!("{output} {e}"),
+        PackError::Osp(OspClash::OtherFmu { .. }) => {
+            format!("{output} {e}; give this pack another --name, or another folder")
+        }
+        PackError::Osp(OspClash::NotOurs { .. }) => {
+            format!("{output} {e}; move it away, or give this pack another --name")
+        }
+        PackError::Input(i) => {
+            let name = match &i.input {
+                Input::Coords => "--coords".to_string(),
+                Input::Library => "--lib".to_string(),
+                other => other.to_string(),
+            };
+            let mut text = String::new();
+            let _ = i.worded(&name, &mut text);
+            text
+        }
         PackError::LibNotFound(_) => format!("{e}, or give --lib PATH"),
         PackError::Time { what, value } => format!(
             "--{what}: expected a time > 0 (s), found {}",
@@ -240,6 +262,96 @@ pub fn worded(e: &PackError, output: &str) -> String {
     }
 }
 
+/// A pack note on the command line: the library's notes carry data; this command names
+/// the options that set it. Warnings start with `warning: `.
+pub fn note_worded(n: &PackNote) -> String {
+    let text = match n {
+        PackNote::Body(w) => w.clone(),
+        PackNote::CoordsDerived => "no --coords: node coordinates derived from the rigid modes, \
+             frame origin L0 at (0, 0, 0)"
+            .to_string(),
+        PackNote::OriginPlaced { coords, origin } => format!(
+            "{}: node positions match the rigid modes; frame origin L0 placed at ({}, {}, {})",
+            coords.display(),
+            num(origin[0]),
+            num(origin[1]),
+            num(origin[2])
+        ),
+        PackNote::FmaxAuto { hz, step } => format!(
+            "--fmax auto: {} Hz, twice the Nyquist frequency 1/(2H) of the DefaultExperiment \
+             step H = {} s",
+            num(*hz),
+            num(*step)
+        ),
+        PackNote::FmaxBelowFirstMode { fmax, first } => format!(
+            "--fmax {} Hz is below the first mode ({} Hz): no mode kept, the body follows its \
+             loads only quasi-statically (residual flexibility); raise --fmax to keep modes",
+            num(*fmax),
+            num(*first)
+        ),
+        PackNote::FmaxKeepsAll { fmax, kept } => format!(
+            "--fmax {} Hz: all {kept} modes kept (every mode is below it), no residual correction",
+            num(*fmax)
+        ),
+        PackNote::FmaxKeeps { fmax, kept, total } => format!(
+            "--fmax {} Hz: {kept} of {total} modes kept, the other {} by their static \
+             (residual-flexibility) contribution; positions, rotations and strain energy now \
+             depend on the same-instant loads",
+            num(*fmax),
+            total - kept
+        ),
+        PackNote::NodeBlocked { id, body } => format!(
+            "node {id} is fully blocked: no mode of {body} moves it, so its outputs stay at \
+             their initial values and loads on it do nothing"
+        ),
+        PackNote::ExperimentTooLong {
+            stop,
+            step,
+            steps,
+            step_given,
+            stop_given,
+        } => {
+            let advice = match (step_given, stop_given) {
+                (true, true) => "give a longer --step or a shorter --stop",
+                (true, false) => "give a longer --step (or --stop)",
+                _ => "give a shorter --stop (or a longer --step)",
+            };
+            format!(
+                "the DefaultExperiment (stop time {} s, step {} s) takes {} steps, more than {}: \
+                 a master running it as written would not finish in a useful time; {advice}",
+                num(*stop),
+                num(*step),
+                num(*steps),
+                num(fxbody::fmu::pack::experiment::MAX_EXPERIMENT_STEPS)
+            )
+        }
+        PackNote::StepTooSmall {
+            step,
+            lowest_hz,
+            step_given,
+        } => format!(
+            "{} {} s is {} of the lowest mode's period {} s, below {}: nothing in the body \
+             moves on that time scale; a step of about 1/20 of the period ({} s) resolves the \
+             lowest mode",
+            if *step_given { "--step" } else { "the step" },
+            num(*step),
+            num(step * lowest_hz),
+            num(1.0 / lowest_hz),
+            num(fxbody::fmu::pack::experiment::MIN_STEP_PER_PERIOD),
+            num(1.0 / (20.0 * lowest_hz))
+        ),
+        PackNote::AllNodesExposed { nodes, variables } => format!(
+            "all {nodes} nodes are exposed, which makes {variables} variables; expose only the \
+             nodes the scene couples to (--nodes or --nodes-file)"
+        ),
+    };
+    if n.is_warning() {
+        format!("warning: {text}")
+    } else {
+        text
+    }
+}
+
 /// Node IDs from a `--nodes-file` ([`crate::grammar::node_file_text`]). Errors name the
 /// file and line.
 pub fn read_nodes_file(path: &std::path::Path) -> Result<Vec<i64>, String> {
@@ -248,4 +360,95 @@ pub fn read_nodes_file(path: &std::path::Path) -> Result<Vec<i64>, String> {
     let text = String::from_utf8(bytes)
         .map_err(|_| format!("--nodes-file {}: not UTF-8 text", path.display()))?;
     crate::grammar::node_file_text(&text, &path.display().to_string())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every note worded as the library wrote it before the notes became data (the
+    /// strings of `prepare_reporting` and `experiment::warnings` before issue 27.6,
+    /// with the values filled in by hand), so the command's output is unchanged.
+    #[test]
+    fn every_note_reads_as_before_it_became_data() {
+        let cases = [
+            (PackNote::Body("w".into()), "warning: w".to_string()),
+            (
+                PackNote::CoordsDerived,
+                "no --coords: node coordinates derived from the rigid modes, frame origin L0 at (0, 0, 0)".into(),
+            ),
+            (
+                PackNote::OriginPlaced {
+                    coords: "a/b.csv".into(),
+                    origin: [10.0, -3.0, 0.5],
+                },
+                "a/b.csv: node positions match the rigid modes; frame origin L0 placed at (10, -3, 0.5)".into(),
+            ),
+            (
+                PackNote::FmaxAuto {
+                    hz: 1000.0,
+                    step: 1e-3,
+                },
+                "--fmax auto: 1000 Hz, twice the Nyquist frequency 1/(2H) of the DefaultExperiment step H = 0.001 s".into(),
+            ),
+            (
+                PackNote::FmaxBelowFirstMode {
+                    fmax: 2.0,
+                    first: 6.5,
+                },
+                "warning: --fmax 2 Hz is below the first mode (6.5 Hz): no mode kept, the body follows its loads only quasi-statically (residual flexibility); raise --fmax to keep modes".into(),
+            ),
+            (
+                PackNote::FmaxKeepsAll {
+                    fmax: 1e3,
+                    kept: 20,
+                },
+                "--fmax 1000 Hz: all 20 modes kept (every mode is below it), no residual correction"
+                    .into(),
+            ),
+            (
+                PackNote::FmaxKeeps {
+                    fmax: 50.0,
+                    kept: 3,
+                    total: 20,
+                },
+                "--fmax 50 Hz: 3 of 20 modes kept, the other 17 by their static (residual-flexibility) contribution; positions, rotations and strain energy now depend on the same-instant loads".into(),
+            ),
+            (
+                PackNote::NodeBlocked {
+                    id: 101,
+                    body: "c.fxb".into(),
+                },
+                "warning: node 101 is fully blocked: no mode of c.fxb moves it, so its outputs stay at their initial values and loads on it do nothing".into(),
+            ),
+            (
+                PackNote::ExperimentTooLong {
+                    stop: 1e6,
+                    step: 1e-4,
+                    steps: 1e10,
+                    step_given: true,
+                    stop_given: false,
+                },
+                "warning: the DefaultExperiment (stop time 1000000 s, step 0.0001 s) takes 1e10 steps, more than 1e9: a master running it as written would not finish in a useful time; give a longer --step (or --stop)".into(),
+            ),
+            (
+                PackNote::StepTooSmall {
+                    step: 1e-12,
+                    lowest_hz: 10.0,
+                    step_given: false,
+                },
+                "warning: the step 1e-12 s is 1e-11 of the lowest mode's period 0.1 s, below 1e-9: nothing in the body moves on that time scale; a step of about 1/20 of the period (0.005 s) resolves the lowest mode".into(),
+            ),
+            (
+                PackNote::AllNodesExposed {
+                    nodes: 56,
+                    variables: 1013,
+                },
+                "warning: all 56 nodes are exposed, which makes 1013 variables; expose only the nodes the scene couples to (--nodes or --nodes-file)".into(),
+            ),
+        ];
+        for (note, want) in cases {
+            assert_eq!(note_worded(&note), want);
+        }
+    }
 }

@@ -101,6 +101,16 @@ impl Default for Options {
     }
 }
 
+/// What a singular K of a body imported as blocked suggests besides importing it as
+/// free: data, the command words it with its options.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SingularHint {
+    /// K's zero modes are exactly the coordinates' rigid motions: a free body.
+    RigidMotions,
+    /// No coordinates were given, and a free body is recognised by them.
+    GiveCoords,
+}
+
 /// Why a body could not be built. Each message names the cause and, where one exists,
 /// the DOF and the value.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -223,15 +233,15 @@ pub enum ImportError {
     /// Blocked asked for (or detected), K singular.
     #[error(
         "{first}K is singular ({zero} zero-energy modes): apply the supports before \
-         reduction, or use --free{hint}"
+         reduction"
     )]
     SingularBlocked {
         /// Number of zero-energy modes.
         zero: usize,
         /// What the coordinates say about K's null space, said first (units), or empty.
         first: String,
-        /// `; K's zero modes are exactly rigid motions: did you mean --free?` when so.
-        hint: String,
+        /// What the command could suggest besides importing the body as free.
+        hint: Option<SingularHint>,
     },
     /// K is positive definite, but its lowest eigenvalue is at round-off of the largest.
     #[error(

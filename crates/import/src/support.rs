@@ -28,7 +28,7 @@ use super::dofs::Reduced;
 use super::modes::{StandardForm, shifted};
 use super::report::Report;
 use super::rigid::{MOTIONS, MassProps};
-use super::{ImportError, Support};
+use super::{ImportError, SingularHint, Support};
 use fxbody::num::num;
 
 /// A rigid motion whose `|K r| / (|K|_F |r|)` exceeds this is not in K's null space.
@@ -251,7 +251,7 @@ pub fn classify(
             return Err(ImportError::SingularBlocked {
                 zero: 6,
                 first: String::new(),
-                hint: "; K's zero modes are exactly rigid motions: did you mean --free?".into(),
+                hint: Some(SingularHint::RigidMotions),
             });
         }
         (Support::Blocked | Support::Detect, _) => {
@@ -278,11 +278,8 @@ pub fn classify(
                         )
                     })
                     .unwrap_or_default();
-                let hint = if props.is_none() && matches!(support, Support::Detect) {
-                    "; for a free body give its coordinates (--coords)".to_string()
-                } else {
-                    String::new()
-                };
+                let hint = (props.is_none() && matches!(support, Support::Detect))
+                    .then_some(SingularHint::GiveCoords);
                 return Err(ImportError::SingularBlocked {
                     zero: k_zero_count(form)?,
                     first,

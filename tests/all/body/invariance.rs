@@ -15,7 +15,7 @@ use crate::common::root;
 use fxbody::body::Body;
 use fxbody::body::invariance::{TOL, check, measure};
 use fxbody::fmi::types::fmi2Warning;
-use fxbody::fmu::pack::{PackRequest, find_library, pack};
+use fxbody::fmu::pack::{PackOptions, PackRequest, find_library, pack};
 
 const NAIVE: &str = "tests/data/freefree_naive.fxb";
 
@@ -166,7 +166,7 @@ fn packed(body: &Path, dir: &Path) -> (String, String) {
         body: body.to_path_buf(),
         ..PackRequest::default()
     };
-    let p = pack(&req, &lib, &fmu).unwrap();
+    let p = pack(&req, &PackOptions::default(), &lib, &fmu, None).unwrap();
     extract(&fmu, dir);
     (p.guid, fxbody_host::file_uri(&dir.join("resources")))
 }

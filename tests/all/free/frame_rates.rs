@@ -5,7 +5,7 @@
 //! (`skew(w) = dP/dt P^T`) for every method, in the table FMI 2.0 and 3.0 share.
 
 use crate::common::root;
-use fxbody::fmu::pack::{PackRequest, prepare_with};
+use fxbody::fmu::pack::{PackOptions, PackRequest, prepare};
 use fxbody::fmu::simulation::{Phase, Simulation};
 use fxbody::fmu::vars::{Kind, METHODS};
 use nalgebra::Matrix3;
@@ -25,7 +25,7 @@ fn frame_rates_start_at_v0_w0_and_are_the_derivatives_of_frame_x_and_p() {
     let w0 = [2.0, 5.0, 20.0];
     let h = 1e-4;
     for info in METHODS.iter().filter(|i| i.bodies.includes(true)) {
-        let p = prepare_with(&req, None).unwrap();
+        let p = prepare(&req, &PackOptions::default(), None).unwrap();
         let t = &p.table;
         let vr = |k: Kind| vr_of(t, k);
         let x: Vec<u32> = (0..3).map(|c| vr(Kind::FrameOrigin(c))).collect();

@@ -5,7 +5,7 @@
 //! raw scheme blows up, 5 % below it stays with the reference.
 
 use crate::common::fixture;
-use fxbody::fmu::pack::{Fmax, PackRequest, prepare_with};
+use fxbody::fmu::pack::{Fmax, PackOptions, PackRequest, prepare};
 use fxbody::scene::Scene;
 use fxbody::solver::free::Explicit;
 use fxbody::solver::{Method, Options, Solver, build};
@@ -19,13 +19,20 @@ fn truncated_truss() -> Scene {
         nodes,
         ..PackRequest::default()
     };
-    let all = prepare_with(&req(None), None).unwrap();
+    let all = prepare(&req(None), &PackOptions::default(), None).unwrap();
     let ids = all.scene.body.node_ids();
     let nodes = vec![ids[ids.len() / 2], ids[ids.len() - 1]];
     let hz = all.scene.body.frequencies_hz();
-    let mut scene = prepare_with(&req(Some(nodes)), Some(Fmax::Hz(hz[hz.len() / 2])))
-        .unwrap()
-        .scene;
+    let mut scene = prepare(
+        &req(Some(nodes)),
+        &PackOptions {
+            fmax: Some(Fmax::Hz(hz[hz.len() / 2])),
+            ..PackOptions::default()
+        },
+        None,
+    )
+    .unwrap()
+    .scene;
     assert!(scene.residual.is_some());
     scene.gravity = [0.0, 0.0, -9.81];
     scene.w0 = [0.0, 0.0, 0.1];

@@ -6,7 +6,7 @@
 //! `fixtures/generate.py --large` takes about 20 s of Python to build.
 //! `cargo bench --bench instantiate` measures time and memory on the grillage itself.
 
-use fxbody::fmu::pack::{PackRequest, find_library, pack};
+use fxbody::fmu::pack::{PackOptions, PackRequest, find_library, pack};
 use fxbody::fmu::simulation::{Phase, Simulation};
 use fxbody::fxb::FxbFile;
 use fxbody_host::FmuLibrary;
@@ -85,7 +85,7 @@ fn a_hundred_instances_of_a_two_node_scene_of_a_large_body() {
     };
     let lib = find_library(None).unwrap();
     let fmu = dir.join("big.fmu");
-    let p = pack(&req, &lib, &fmu).unwrap();
+    let p = pack(&req, &PackOptions::default(), &lib, &fmu, None).unwrap();
     let (fmu_size, fxb_size) = (
         std::fs::metadata(&fmu).unwrap().len(),
         std::fs::metadata(&fxb).unwrap().len(),

@@ -9,7 +9,7 @@ use std::collections::BTreeMap;
 use crate::common::root;
 use fxbody::body::load as load_body;
 use fxbody::fmu::doc::index_html;
-use fxbody::fmu::pack::{Fmax, PackRequest, Prepared, prepare_with};
+use fxbody::fmu::pack::{Fmax, PackNote, PackOptions, PackRequest, Prepared, prepare};
 
 fn pack(fmax: Option<f64>) -> Prepared {
     let req = PackRequest {
@@ -18,7 +18,15 @@ fn pack(fmax: Option<f64>) -> Prepared {
         nodes: Some(vec![121, 111]),
         ..PackRequest::default()
     };
-    prepare_with(&req, fmax.map(Fmax::Hz)).unwrap()
+    prepare(
+        &req,
+        &PackOptions {
+            fmax: fmax.map(Fmax::Hz),
+            ..PackOptions::default()
+        },
+        None,
+    )
+    .unwrap()
 }
 
 /// Text between `start` and the next `end` after it.
@@ -124,9 +132,10 @@ fn fmax_below_the_first_mode_warns_and_above_every_mode_keeps_all() {
     let low = pack(Some(0.5 * f1));
     assert_eq!(low.scene.body.nl(), 0);
     assert!(
-        low.notes
-            .iter()
-            .any(|n| n.starts_with("warning: --fmax") && n.contains("below the first mode")),
+        low.notes.contains(&PackNote::FmaxBelowFirstMode {
+            fmax: 0.5 * f1,
+            first: f1
+        }),
         "{:?}",
         low.notes
     );
@@ -139,8 +148,10 @@ fn fmax_below_the_first_mode_warns_and_above_every_mode_keeps_all() {
     assert_eq!(high.scene.body.nl(), 20);
     assert!(high.scene.residual.is_none());
     assert!(
-        high.notes.iter().any(|n| n.contains("all 20 modes kept"))
-            && !high.notes.iter().any(|n| n.starts_with("warning")),
+        high.notes.contains(&PackNote::FmaxKeepsAll {
+            fmax: 2.0 * top,
+            kept: 20
+        }) && !high.notes.iter().any(PackNote::is_warning),
         "{:?}",
         high.notes
     );
@@ -218,7 +229,7 @@ fn a_free_body_page_gives_mass_centre_inertia_and_the_reference_point() {
         nodes: Some(vec![521, 511]),
         ..PackRequest::default()
     };
-    let p = prepare_with(&req, None).unwrap();
+    let p = prepare(&req, &PackOptions::default(), None).unwrap();
     let html = index_html(&p.scene, &p.table, &p.options, &p.guid);
     let text = std::fs::read_to_string(root().join("fixtures/freefree.ref.json")).unwrap();
     let reference: serde_json::Value = serde_json::from_str(&text).unwrap();

@@ -7,11 +7,20 @@
 use crate::common::root;
 use fxbody::body::Body;
 use fxbody::body::load as load_body;
-use fxbody::fmu::pack::{Fmax, PackRequest, prepare_with};
+use fxbody::fmu::pack::{Fmax, PackOptions, PackRequest, Prepared, prepare};
 use fxbody::fmu::simulation::{Phase, Simulation};
 use fxbody::fmu::vars::Kind;
 use nalgebra::DMatrix;
 use serde_json::Value;
+
+/// `req` prepared with the modes up to `fmax` Hz.
+fn truncated(req: &PackRequest, fmax: f64) -> Prepared {
+    let opts = PackOptions {
+        fmax: Some(Fmax::Hz(fmax)),
+        ..PackOptions::default()
+    };
+    prepare(req, &opts, None).unwrap()
+}
 
 /// Component `comp` (0..6: ux uy uz rx ry rz) of node `tip`'s displacement under a unit
 /// load along the same component, direct solve with K_L (P0 = I in this fixture).
@@ -35,7 +44,7 @@ fn packed_truncation_feeds_through_and_tracks_the_reference() {
         nodes: Some(vec![tip]),
         ..PackRequest::default()
     };
-    let p = prepare_with(&req, Some(Fmax::Hz(fmax))).unwrap();
+    let p = truncated(&req, fmax);
     assert_eq!(p.options.fmax, Some(fmax));
     let vr = |want: Kind| {
         p.table
@@ -131,10 +140,10 @@ fn a_low_fmax_keeps_every_variable_and_value_reference() {
             .map(|v| (v.vr, v.name.clone()))
             .collect()
     };
-    let full = prepare_with(&req, None).unwrap();
+    let full = prepare(&req, &PackOptions::default(), None).unwrap();
     let mut seen = Vec::new();
     for fmax in [1.0, 15.0, 1e9] {
-        let p = prepare_with(&req, Some(Fmax::Hz(fmax))).unwrap();
+        let p = truncated(&req, fmax);
         assert_eq!(names(&p), names(&full), "--fmax {fmax}");
         seen.push(p.table.vars.len());
         // The description lists the same variables too.
@@ -150,7 +159,7 @@ fn a_low_fmax_keeps_every_variable_and_value_reference() {
         full.table.vars.len()
     );
     assert_eq!(full.table.vars.len(), 23);
-    let p = prepare_with(&req, Some(Fmax::Hz(1.0))).unwrap();
+    let p = truncated(&req, 1.0);
     let vr = |want: Kind| p.table.vars.iter().find(|v| v.kind == want).unwrap().vr;
     let mz = vr(Kind::Load { node: 0, comp: 5 });
     let rz = vr(Kind::Rotation { node: 0, comp: 2 });

@@ -4,7 +4,7 @@
 
 use crate::common::blocked::{IDENTITY, blocked_body};
 use crate::common::root;
-use fxbody::fmu::pack::{Fmax, PackRequest, prepare, prepare_with};
+use fxbody::fmu::pack::{Fmax, PackNote, PackOptions, PackRequest, prepare};
 use fxbody::fxb::write;
 use fxbody::scene::reduce::to_fxb;
 use serde_json::Value;
@@ -28,9 +28,17 @@ fn step_size(xml: &str) -> f64 {
 
 #[test]
 fn fmax_auto_keeps_the_modes_up_to_one_over_the_default_step() {
-    let full = prepare(&cantilever()).unwrap();
+    let full = prepare(&cantilever(), &PackOptions::default(), None).unwrap();
     let h = step_size(&full.xml);
-    let auto = prepare_with(&cantilever(), Some(Fmax::Auto)).unwrap();
+    let auto = prepare(
+        &cantilever(),
+        &PackOptions {
+            fmax: Some(Fmax::Auto),
+            ..PackOptions::default()
+        },
+        None,
+    )
+    .unwrap();
     assert_eq!(auto.options.fmax, Some(1.0 / h));
     // Independent count: the reduced body's frequencies computed by the Python generator.
     let text = std::fs::read_to_string(root().join("fixtures/cantilever.ref.json")).unwrap();
@@ -49,9 +57,10 @@ fn fmax_auto_keeps_the_modes_up_to_one_over_the_default_step() {
     assert_eq!(auto.scene.body.nl(), want, "modes kept at {} Hz", 1.0 / h);
     assert!(auto.scene.residual.is_some());
     assert!(
-        auto.notes
-            .iter()
-            .any(|n| n.starts_with("--fmax auto: 1000 Hz")),
+        auto.notes.contains(&PackNote::FmaxAuto {
+            hz: 1000.0,
+            step: h
+        }),
         "{:?}",
         auto.notes
     );
@@ -122,29 +131,29 @@ fn exposing_every_node_warns_past_1000_variables() {
     let warned = |p: &fxbody::fmu::pack::Prepared| {
         p.notes
             .iter()
-            .any(|n| n.starts_with("warning: all ") && n.contains("variables"))
+            .any(|n| matches!(n, PackNote::AllNodesExposed { .. }) && n.is_warning())
     };
     // Per node with rotations: 6 inputs, 3 positions, 3 velocities, 3 rotations, 3
     // angular velocities (issue 15); plus method, rho_inf, damping.ratio and the two
     // energies: 18 n + 5 variables.
     for (n, want) in [(55, false), (56, true)] {
         let req = write_body(&dir, n);
-        let p = prepare(&req).unwrap();
+        let p = prepare(&req, &PackOptions::default(), None).unwrap();
         assert_eq!(p.table.vars.len(), 18 * n + 5, "{n} nodes");
         assert_eq!(warned(&p), want, "{n} nodes: {:?}", p.notes);
         if want {
-            let note = p
-                .notes
-                .iter()
-                .find(|m| m.starts_with("warning: all"))
-                .unwrap();
-            assert!(note.contains(&format!("all {n} nodes")) && note.contains("1013 variables"));
+            assert!(p.notes.contains(&PackNote::AllNodesExposed {
+                nodes: n,
+                variables: 1013
+            }));
             // Choosing the nodes silences it: the user asked for them.
             let chosen = PackRequest {
                 nodes: Some((1..=n as i64).collect()),
                 ..req
             };
-            assert!(!warned(&prepare(&chosen).unwrap()));
+            assert!(!warned(
+                &prepare(&chosen, &PackOptions::default(), None).unwrap()
+            ));
         }
     }
     let _ = std::fs::remove_dir_all(&dir);

@@ -8,7 +8,7 @@ use std::process::Command;
 
 use crate::common::root;
 
-use fxbody::fmu::pack::{PackRequest, prepare, resource_entries};
+use fxbody::fmu::pack::{PackNote, PackOptions, PackRequest, prepare, resource_entries};
 use fxbody::fxb;
 use fxbody::scene::io::{SCENE_FILE, load_resources};
 
@@ -65,7 +65,7 @@ fn request(coords: Option<PathBuf>) -> PackRequest {
 fn doubled_deck_is_refused_with_the_worst_node() {
     let d = scratch("double");
     let c = csv(&d, "double.csv", |x| x.map(|v| 2.0 * v));
-    let e = prepare(&request(Some(c.clone())))
+    let e = prepare(&request(Some(c.clone())), &PackOptions::default(), None)
         .err()
         .unwrap()
         .to_string();
@@ -93,7 +93,10 @@ fn doubled_deck_is_refused_with_the_worst_node() {
 fn deck_in_mm_for_a_body_in_m_gets_a_units_hint() {
     let d = scratch("mm");
     let c = csv(&d, "mm.csv", |x| x.map(|v| 1000.0 * v + 5.0));
-    let e = prepare(&request(Some(c))).err().unwrap().to_string();
+    let e = prepare(&request(Some(c)), &PackOptions::default(), None)
+        .err()
+        .unwrap()
+        .to_string();
     assert!(
         e.contains("units? the file's coordinates are 1000 times the body's"),
         "{e}"
@@ -108,11 +111,12 @@ fn shifted_deck_places_the_origin_and_the_fmu_keeps_deck_positions() {
     let c = csv(&d, "shift.csv", |x| {
         [x[0] + shift[0], x[1] + shift[1], x[2] + shift[2]]
     });
-    let p = prepare(&request(Some(c.clone()))).unwrap();
+    let p = prepare(&request(Some(c.clone())), &PackOptions::default(), None).unwrap();
     assert!(
         p.notes
             .iter()
-            .any(|n| n.contains("frame origin L0 placed at (10, -3, 0.5)")),
+            .any(|n| matches!(n, PackNote::OriginPlaced { coords, origin }
+            if *coords == c && (0..3).all(|k| (origin[k] - shift[k]).abs() < 1e-9))),
         "{:?}",
         p.notes
     );
@@ -154,12 +158,8 @@ fn shifted_deck_places_the_origin_and_the_fmu_keeps_deck_positions() {
 
 #[test]
 fn free_body_without_coords_has_its_origin_at_zero_and_info_says_so() {
-    let p = prepare(&request(None)).unwrap();
-    assert!(
-        p.notes
-            .iter()
-            .any(|n| n.contains("frame origin L0 at (0, 0, 0)"))
-    );
+    let p = prepare(&request(None), &PackOptions::default(), None).unwrap();
+    assert!(p.notes.contains(&PackNote::CoordsDerived));
     let want = positions_from_file();
     for (k, &n) in p.scene.nodes.iter().enumerate() {
         for c in 0..3 {

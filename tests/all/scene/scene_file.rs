@@ -7,7 +7,7 @@ use std::path::Path;
 
 use crate::common::fixture;
 use crate::common::fmu::{Slave, packed};
-use fxbody::fmu::pack::{Fmax, PackRequest, Prepared, prepare_with, resource_entries};
+use fxbody::fmu::pack::{Fmax, PackOptions, PackRequest, Prepared, prepare, resource_entries};
 use fxbody::fmu::simulation::{Phase, Simulation};
 use fxbody::fmu::vars::Kind;
 use fxbody::fmu::xml::default_experiment;
@@ -34,14 +34,22 @@ fn prepared(body: &str, fmax: bool) -> Prepared {
         nodes,
         ..PackRequest::default()
     };
-    let all = prepare_with(&req(None), None).unwrap();
+    let all = prepare(&req(None), &PackOptions::default(), None).unwrap();
     let ids = all.scene.body.node_ids();
     let nodes = vec![ids[ids.len() / 2], ids[ids.len() - 1]];
     let f = fmax.then(|| {
         let hz = all.scene.body.frequencies_hz();
         Fmax::Hz(hz[hz.len() / 2])
     });
-    prepare_with(&req(Some(nodes)), f).unwrap()
+    prepare(
+        &req(Some(nodes)),
+        &PackOptions {
+            fmax: f,
+            ..PackOptions::default()
+        },
+        None,
+    )
+    .unwrap()
 }
 
 /// Every value of every variable but `method` after each of [`STEPS`] steps under
@@ -335,7 +343,7 @@ fn embed_source_adds_the_body_file_and_nothing_else_changes() {
             embed_source: embed,
             ..PackRequest::default()
         };
-        let p = prepare_with(&req, None).unwrap();
+        let p = prepare(&req, &PackOptions::default(), None).unwrap();
         let files = fxbody_host::zip::read(&fxbody::fmu::pack::archive(&p, lib).unwrap()).unwrap();
         (p.guid, files)
     };

@@ -8,7 +8,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use fxbody::fmu::pack::{PackRequest, find_library, pack};
+use fxbody::fmu::pack::{PackOptions, PackRequest, find_library, pack};
 use fxbody::scene::io::load_resources;
 use fxbody::solver::{self, Options};
 use fxbody_chart::{Curve, Panel, Scale, Style, svg};
@@ -109,7 +109,7 @@ pub fn run(args: &DemoArgs) -> Result<(), String> {
     let r = reference(&args.fixtures.join("cantilever.ref.json"))?;
     std::fs::create_dir_all(&args.out)
         .map_err(|e| format!("{}: cannot create: {e}", args.out.display()))?;
-    let lib = find_library(args.lib.as_deref()).map_err(|e| crate::pack::worded(&e, "-o"))?;
+    let lib = find_library(args.lib.as_deref()).map_err(|e| crate::pack::worded(&e, "--out"))?;
     let fmu = args.out.join("cantilever.fmu");
     let req = PackRequest {
         body,
@@ -119,7 +119,8 @@ pub fn run(args: &DemoArgs) -> Result<(), String> {
         units: Some("SI".into()),
         ..PackRequest::default()
     };
-    let p = pack(&req, &lib, &fmu).map_err(|e| e.to_string())?;
+    let p = pack(&req, &PackOptions::default(), &lib, &fmu, None)
+        .map_err(|e| crate::pack::worded(&e, "--out"))?;
     let size = std::fs::metadata(&fmu).map(|m| m.len()).unwrap_or(0);
     println!(
         "packed {} ({:.1} MB, GUID {})",
