@@ -254,7 +254,8 @@ pub fn load_resources(dir: &Path) -> Result<Resources, ResourceError> {
 #[cfg(test)]
 pub(crate) fn cantilever_tip_scene() -> Scene {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    let body = crate::body::load(&root.join("fixtures/cantilever.fxb")).unwrap();
+    let body =
+        crate::body::load(&root.join("fixtures/cantilever.fxb"), Default::default()).unwrap();
     let xyz = HashMap::from([(121, [1.0, 0.0, 0.0])]);
     let opts = SceneOptions {
         name: "t".into(),
