@@ -47,6 +47,12 @@ pub trait Continuous {
     fn completed_step(&mut self) -> bool {
         false
     }
+    /// Whether [`Continuous::completed_step`] would change the states now, nothing
+    /// changed: FMI lets a model change its states in Event Mode only, so the model asks
+    /// for an event with this first. Never by default.
+    fn off_manifold(&self) -> bool {
+        false
+    }
 }
 
 /// Check a state vector for [`Continuous::set_states`].

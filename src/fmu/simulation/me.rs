@@ -115,17 +115,7 @@ impl Simulation {
     /// only, so at fmi2CompletedIntegratorStep the model asks for an event with this and
     /// changes them in fmi2NewDiscreteStates. Allocates nothing.
     pub fn completed_step_due(&mut self) -> Result<bool, SimulationError> {
-        self.fill_continuous()?;
-        let t = self.time;
-        let Some(c) = self.solver.as_mut().and_then(|s| s.continuous()) else {
-            return Err(SimulationError::NoSolver);
-        };
-        if !c.completed_step() {
-            return Ok(false);
-        }
-        // Back to the states as the master left them.
-        c.set_states(t, &self.xs)?;
-        Ok(true)
+        Ok(self.continuous()?.off_manifold())
     }
 
     /// The continuous states (fmi2GetContinuousStates).

@@ -212,12 +212,16 @@ impl Continuous for Split {
 
     /// Normalise the quaternion once its norm has drifted past [`NORM_TOLERANCE`];
     /// `true` when it did (the master must read the states again).
+    fn off_manifold(&self) -> bool {
+        (self.attitude.quaternion(&self.p).norm() - 1.0).abs() > NORM_TOLERANCE
+    }
+
     fn completed_step(&mut self) -> bool {
-        let q = self.attitude.quaternion(&self.p);
-        let norm = q.norm();
-        if (norm - 1.0).abs() <= NORM_TOLERANCE {
+        if !self.off_manifold() {
             return false;
         }
+        let q = self.attitude.quaternion(&self.p);
+        let norm = q.norm();
         self.attitude = Attitude {
             q: q / norm,
             key: self.p,
