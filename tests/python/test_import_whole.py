@@ -74,8 +74,11 @@ def assert_ccx_frequencies(ours, printed_hz):
     theirs = [(f, h) for f, h in theirs if f < FMAX]
     assert len(ours) == len(theirs), (ours, theirs)
     worst = 0.0
+    # Half a unit of the printed digit, plus 1e-6 relative for ccx's own solver: its
+    # ARPACK and SPOOLES round differently per machine, visible in the 7th digit (the free
+    # bracket's 4th elastic mode prints 4.184974e3 Hz on one machine, 4.184973e3 on another).
     for k, (f, (g, half)) in enumerate(zip(ours, theirs)):
-        assert abs(f - g) <= half + 1e-9 * g, f"mode {k + 1}: ours {f!r} Hz, ccx {g} +- {half}"
+        assert abs(f - g) <= half + 1e-6 * g, f"mode {k + 1}: ours {f!r} Hz, ccx {g} +- {half}"
         worst = max(worst, abs(f - g) / g)
     return worst
 

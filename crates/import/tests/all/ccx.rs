@@ -29,8 +29,14 @@ fn job(case: &str) -> (std::path::PathBuf, MatrixStorage) {
     (dir, model)
 }
 
+/// ccx's own machine-to-machine spread, relative (see `assert_frequencies`).
+const CCX_SPREAD: f64 = 1e-6;
+
 /// Our frequencies against ccx's printed ones (7 digits): each within half a unit of the
-/// last printed digit, plus 1e-9 relative for ccx's own rounding.
+/// last printed digit, plus 1e-6 relative for ccx's own solver. ccx's ARPACK and SPOOLES
+/// round differently per machine, and that shows in the 7th digit: the free bracket's
+/// mode 3 prints 4.184974e3 Hz on one machine and 4.184973e3 on another, ours 4.1849736e3
+/// between them. A wrong mass, spider or index moves a frequency by far more than 1e-6.
 fn assert_frequencies(ours: &[f64], printed_hz: &[serde_json::Value]) -> f64 {
     let theirs: Vec<(f64, f64)> = printed_hz
         .iter()
@@ -43,7 +49,7 @@ fn assert_frequencies(ours: &[f64], printed_hz: &[serde_json::Value]) -> f64 {
         let diff = (f - g).abs();
         worst = worst.max(diff / g);
         assert!(
-            diff <= half + 1e-9 * g,
+            diff <= half + CCX_SPREAD * g,
             "mode {k}: ours {f:.9e} Hz, ccx {g:e} +- {half:e}"
         );
     }
