@@ -207,7 +207,9 @@ fn ccx_static(dir: &std::path::Path) -> (Vec<f64>, Vec<f64>, [f64; 3], [f64; 3])
 }
 
 /// Each of our six connection values against ccx's: within 1e-6 of the largest of its
-/// kind (translation or rotation), and within the printed precision.
+/// kind (translation or rotation), and within the printed precision plus 1e-8 of that
+/// largest value (ccx's own SPOOLES solve rounds per machine, and a value near a rounding
+/// boundary may print on either side of it).
 fn assert_static(ours: &[f64], ccx: &[f64], half: &[f64]) -> f64 {
     let mut worst = 0.0f64;
     for kind in [0..3, 3..6] {
@@ -222,7 +224,7 @@ fn assert_static(ours: &[f64], ccx: &[f64], half: &[f64]) -> f64 {
                 ccx[i]
             );
             assert!(
-                diff <= half[i] * (1.0 + 1e-6),
+                diff <= half[i] + 1e-8 * scale,
                 "{i}: ours {:e} ccx {:e}",
                 ours[i],
                 ccx[i]
