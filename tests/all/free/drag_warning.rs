@@ -142,8 +142,8 @@ fn explicit_and_split_warn_at_load_when_modes_drag_rigid_motion() {
     }
 }
 
-/// The relative energy change per radian of the supported truss spun torque-free at 0.018 of its
-/// first frequency about `P0 (1, -2, 3)` by `method` with 1 ms steps over `rad` radians,
+/// The relative energy change per radian of the supported truss spun torque-free at 0.018
+/// of its first frequency about `P0 (1, -2, 3)` by `method` with 1 ms steps over `rad` radians,
 /// and the change over the whole run.
 fn energy_change(method: Method, rad: f64) -> (f64, f64) {
     let body = Arc::new(load(SUPPORTED));
@@ -169,8 +169,9 @@ fn energy_change(method: Method, rad: f64) -> (f64, f64) {
 /// radian over 27 rad (`TRUSS_GAIN_EXPLICIT`), the split method's over its first 100 rad
 /// (`TRUSS_GAIN_SPLIT`) and in all after 300 rad (`TRUSS_SPLIT_300`), the implicit
 /// method's change over 400 rad (`TRUSS_IMPLICIT_400`), each within 10 %. Reference: the
-/// exact equations conserve the energy (study/spin_reference.py integrates them and
-/// keeps the truss's energy to 1e-8 over this spin), so every change measured here is
+/// exact equations conserve the energy (study/spin_reference.py integrated them for this
+/// body, then the shipped truss, and kept its energy to 1e-8 over this spin), so every
+/// change measured here is
 /// the method's and its equations'. About 20 s in a release build.
 #[test]
 fn drag_gain_figures() {
