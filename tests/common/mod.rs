@@ -70,8 +70,18 @@ pub fn fixture(name: &str) -> PathBuf {
 /// The body of fixture `name` exposing the nodes `ids` (node IDs), at the coordinates of
 /// its `/NODE` deck.
 pub fn fixture_scene(name: &str, ids: &[i64]) -> Scene {
-    let body = load_body(&fixture(&format!("{name}.fxb")), Default::default()).unwrap();
-    let xyz = coords::to_map(&coords::read_coords(&fixture(&format!("{name}.nodes.rad"))).unwrap());
+    scene_in(&root().join("fixtures"), name, ids)
+}
+
+/// As [`fixture_scene`], for a test body of tests/data with a `/NODE` deck (the truss
+/// with modes from a support, `truss_supported`).
+pub fn data_scene(name: &str, ids: &[i64]) -> Scene {
+    scene_in(&root().join("tests").join("data"), name, ids)
+}
+
+fn scene_in(dir: &std::path::Path, name: &str, ids: &[i64]) -> Scene {
+    let body = load_body(&dir.join(format!("{name}.fxb")), Default::default()).unwrap();
+    let xyz = coords::to_map(&coords::read_coords(&dir.join(format!("{name}.nodes.rad"))).unwrap());
     let nodes = ids.iter().map(|id| body.node_index(*id).unwrap()).collect();
     let x0 = ids.iter().map(|id| xyz[id]).collect();
     Scene::new(Arc::new(body), nodes, x0)

@@ -2,8 +2,9 @@
 
 make_data.py is standard-library Python (no BLAS, no numpy): its output is the same bytes
 on every machine, so the committed files are compared byte for byte. The naive-construction
-free-free beam (tests/data/freefree_naive.fxb) comes from the fixture generator and goes
-through LAPACK: fixtures/test_generate.py compares it value by value with a tolerance."""
+free-free beam (tests/data/freefree_naive.fxb) and the truss reduced on a 3-2-1 support
+(tests/data/truss_supported.fxb and .nodes.rad) come from the fixture generator and go
+through LAPACK: fixtures/test_generate.py compares them value by value with a tolerance."""
 
 import pathlib
 import subprocess

@@ -37,10 +37,11 @@ pub const MAX_FRAME_ERROR: f64 = 1e-6;
 /// centrifugal terms of the deformation (spin softening `-Omega^2` in the local stiffness,
 /// geometric stiffening from the centrifugal pre-stress): both change the first mode's
 /// `omega^2` by a fraction of order `(Omega / omega_1)^2`, 1 % at this ratio. It is also
-/// where the model itself stops being trustworthy on the shipped truss (local modes from a
-/// 3-2-1 support): spun about a tumbling axis it diverges with both methods between 0.1
-/// and 0.13 omega_1 (50 to 70 rad/s, omega_1 = 519 rad/s), so a higher threshold would
-/// warn too late there (docs/STUDY.md, spin-rate stability).
+/// where the model itself stops being trustworthy on a body whose local modes come from a
+/// support (the truss tower reduced on a 3-2-1 support, tests/data/truss_supported.fxb,
+/// the shipped truss until issue 28): spun about a tumbling axis it diverges with both
+/// methods between 0.1 and 0.13 omega_1 (50 to 70 rad/s, omega_1 = 519 rad/s), so a
+/// higher threshold would warn too late there (docs/STUDY.md, spin-rate stability).
 pub const SPIN_WARN_RATIO: f64 = 0.1;
 
 /// Largest rotation per internal step `|omega| dt` (rad) of the explicit method: its
@@ -119,10 +120,12 @@ pub(crate) fn spin_warning(m: &FreeScene, spin: f64, warned: &mut bool) -> Optio
 /// computed on a support drag a sizeable fraction.
 pub const DRAG_WARN: f64 = 1e-6;
 
-/// The dragged fraction of the truss tower (fixtures/truss.fxb), quoted by the warning.
+/// The dragged fraction of the truss tower reduced on a 3-2-1 support
+/// (tests/data/truss_supported.fxb), quoted by the warning. The shipped truss
+/// (fixtures/truss.fxb, free-free modes) drags 1.2e-21 and is not warned about.
 pub const TRUSS_DRAGGED: f64 = 0.9989;
 
-/// The explicit method's relative energy gain per radian on the truss tower spun
+/// The explicit method's relative energy gain per radian on that truss spun
 /// torque-free at 0.018 of its first frequency with 1 ms communication steps (+3.4e-3
 /// after 27 rad; `free::drag_warning::drag_gain_figures`).
 pub const TRUSS_GAIN_EXPLICIT: f64 = 1.26e-4;

@@ -82,9 +82,15 @@ fn info_with_an_unknown_node_fails_before_printing() {
 
 #[test]
 fn text_effective_masses_state_the_round_off_threshold() {
-    // Printed only where a mode has effective mass (the truss: modes from a support;
-    // the free-free beam's are all zero and not printed, tests/all/cli/info_nodes.rs).
-    let out = ok(&run(&["info", "--nodes", "1001", "fixtures/truss.fxb"]));
+    // Printed only where a mode has effective mass (the truss built on a 3-2-1 support,
+    // tests/data/truss_supported.fxb; the shipped free bodies' are all zero and not
+    // printed, tests/all/cli/info_nodes.rs).
+    let out = ok(&run(&[
+        "info",
+        "--nodes",
+        "1001",
+        "tests/data/truss_supported.fxb",
+    ]));
     assert!(out.contains("below 1e-12 of the total mass"), "{out}");
 }
 

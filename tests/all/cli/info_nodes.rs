@@ -3,9 +3,10 @@
 //! - On a free body the table is the nodes' participation in the local modes, never a
 //!   "share of the static deflection" (undefined: a load accelerates the body), and the
 //!   output says why; the effective-mass column appears only where a mode has effective
-//!   mass: none on the free-free beam (its modes are mass-orthogonal to rigid motion),
-//!   and on the truss (local modes from a support) a column whose sum is checked against
-//!   the total mass.
+//!   mass: none on the shipped free bodies (the free-free beam and the truss: their
+//!   modes are mass-orthogonal to rigid motion), and on the truss built on a support
+//!   (tests/data/truss_supported.fxb) a column whose sum is checked against the total
+//!   mass.
 //! - The participation is a share of the body's own flexibility, so 100% at an interior
 //!   node of the cantilever says nothing of the reduction's error there: measured
 //!   against beam theory, its static deflection at mid-span is 2.8e-4 off (the fixture's
@@ -14,6 +15,9 @@
 
 use super::{assert_refused, ok, run};
 use crate::common::{fixture, fixture_reference, nums};
+
+/// The truss with local modes from a 3-2-1 support (modes that carry mass).
+const SUPPORTED: &str = "tests/data/truss_supported.fxb";
 
 #[test]
 fn free_free_beam_shows_participation_without_static_deflection_or_zero_masses() {
@@ -85,7 +89,12 @@ fn free_free_beam_shows_participation_without_static_deflection_or_zero_masses()
 
 #[test]
 fn truss_modes_from_a_support_print_their_effective_masses() {
+    // The shipped truss's modes are free-free (as `fxbody import` builds a free body):
+    // no effective mass, no column.
     let out = ok(&run(&["info", "--nodes", "1001", "fixtures/truss.fxb"]));
+    assert!(out.contains("effective masses: none"), "{out}");
+    assert!(!out.contains("meff"), "{out}");
+    let out = ok(&run(&["info", "--nodes", "1001", SUPPORTED]));
     assert!(out.contains("meff X"), "{out}");
     assert!(
         out.contains("only approximately here: these local modes carry mass"),
@@ -93,14 +102,8 @@ fn truss_modes_from_a_support_print_their_effective_masses() {
     );
     // The effective masses of all modes along each axis at most the total mass (the
     // rigid motion keeps the rest: a mass-normalised projection, Bessel's inequality).
-    let v: serde_json::Value = serde_json::from_str(&ok(&run(&[
-        "info",
-        "--json",
-        "--nodes",
-        "1001",
-        "fixtures/truss.fxb",
-    ])))
-    .unwrap();
+    let v: serde_json::Value =
+        serde_json::from_str(&ok(&run(&["info", "--json", "--nodes", "1001", SUPPORTED]))).unwrap();
     let total = v["mass"].as_f64().unwrap();
     let mut sum = [0.0; 3];
     for m in v["modes"].as_array().unwrap() {

@@ -7,12 +7,14 @@
 //! (on the rigid motions the frame constraints allow), smaller than `m_L`, and its
 //! highest free-free frequency lies above the highest local one, by however much the
 //! top kept mode couples. The central-difference step bound `2 / omega_max` must use
-//! that frequency. Measured on the shipped truss truncated at its middle mode (28 of 54
-//! local modes, highest local 2855 Hz): the coupled top frequency is higher, and the
-//! scheme at `0.9 x 2 / omega_L,max` grew the energy from 1e-3 J to 1e4 J in 10 ms
-//! under 0.05 N loads before its spin-rate bound collapsed the step; with the coupled
-//! bound it follows the implicit and split methods. The full truss's highest local
-//! mode couples little, so its bound hardly changes.
+//! that frequency. Measured on the truss tower reduced on a 3-2-1 support
+//! (tests/data/truss_supported.fxb) truncated at its middle mode (28 of 54 local modes,
+//! highest local 2855 Hz): the coupled top frequency is higher, and the scheme at
+//! `0.9 x 2 / omega_L,max` grew the energy from 1e-3 J to 1e4 J in 10 ms under 0.05 N
+//! loads before its spin-rate bound collapsed the step; with the coupled bound it
+//! follows the implicit and split methods. That truss's full highest local mode couples
+//! little, so its bound hardly changes; free-free modes (the shipped bodies) do not
+//! couple at all.
 //!
 //! The frequency is taken from the scheme itself: the linear map from the local
 //! coordinates to their accelerations (`a_L = -A alpha` at rest, loads and gravity
