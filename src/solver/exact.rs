@@ -282,7 +282,10 @@ impl Solver for Exact {
         Some(self)
     }
 
+    /// The caller may change the continuous states through it: the state measured last
+    /// is stale.
     fn continuous(&mut self) -> Option<&mut dyn Continuous> {
+        self.rollback.touch();
         Some(self)
     }
 }

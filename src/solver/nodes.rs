@@ -275,12 +275,14 @@ macro_rules! modal_solver_items {
 
         fn set_loads(&mut self, loads: &[f64]) -> Result<(), $crate::solver::SolverError> {
             self.io.set_loads(loads, self.time)?;
+            self.rollback.touch();
             self.refresh();
             Ok(())
         }
 
         fn set_load_rates(&mut self, rates: &[f64]) -> Result<(), $crate::solver::SolverError> {
             self.io.set_rates(rates, self.time)?;
+            self.rollback.touch();
             self.refresh();
             Ok(())
         }

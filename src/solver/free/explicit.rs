@@ -396,6 +396,7 @@ impl Solver for Explicit {
 
     fn set_loads(&mut self, loads: &[f64]) -> Result<(), SolverError> {
         self.m.check_loads("loads", loads)?;
+        self.rollback.touch();
         let t = self.t;
         // A jump is a change beyond round-off of the value the load function has now (a
         // master re-sending a continuous load computes it in its own way).
@@ -413,6 +414,7 @@ impl Solver for Explicit {
 
     fn set_load_rates(&mut self, rates: &[f64]) -> Result<(), SolverError> {
         self.m.check_loads("load rates", rates)?;
+        self.rollback.touch();
         self.loads.set_rates(rates, self.t);
         Ok(())
     }

@@ -667,12 +667,14 @@ impl Solver for Split {
 
     fn set_loads(&mut self, loads: &[f64]) -> Result<(), SolverError> {
         self.m.check_loads("loads", loads)?;
+        self.rollback.touch();
         self.loads.set(loads, self.t);
         self.refresh()
     }
 
     fn set_load_rates(&mut self, rates: &[f64]) -> Result<(), SolverError> {
         self.m.check_loads("load rates", rates)?;
+        self.rollback.touch();
         self.loads.set_rates(rates, self.t);
         Ok(())
     }
@@ -694,7 +696,10 @@ impl Solver for Split {
         Ok(spin_warning(&self.m, spin, &mut self.warned))
     }
 
+    /// The caller may change the continuous states through it: the state measured last
+    /// is stale.
     fn continuous(&mut self) -> Option<&mut dyn crate::solver::continuous::Continuous> {
+        self.rollback.touch();
         Some(self)
     }
 
