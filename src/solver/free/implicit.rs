@@ -38,8 +38,8 @@ use nalgebra::{DMatrix, DVector, Matrix3};
 
 use super::lu::Lu;
 use super::{
-    FreeScene, Loads, MAX_FRAME_ERROR, PAIRS, frame_error, frame_invalid, frame_omega,
-    omega_rate_from_frame, point_vec, spin_warning,
+    FreeScene, Loads, MAX_FRAME_ERROR, PAIRS, checked_step, frame_error, frame_invalid,
+    frame_omega, omega_rate_from_frame, point_vec, spin_warning,
 };
 use crate::scene::Scene;
 use crate::solver::nodes::check_state;
@@ -389,10 +389,6 @@ impl Solver for Implicit {
         Method::Implicit
     }
 
-    fn time(&self) -> f64 {
-        self.t
-    }
-
     fn set_loads(&mut self, loads: &[f64]) -> Result<(), SolverError> {
         self.m.check_loads("loads", loads)?;
         self.rollback.touch();
@@ -401,24 +397,10 @@ impl Solver for Implicit {
         Ok(())
     }
 
-    fn set_load_rates(&mut self, rates: &[f64]) -> Result<(), SolverError> {
-        self.m.check_loads("load rates", rates)?;
-        self.rollback.touch();
-        self.loads.set_rates(rates, self.t);
-        Ok(())
-    }
-
     /// Advance by `h`. The work is bounded ([`MAX_NEWTON_PER_STEP`]); on any error the
     /// state is as before the call (the step puts itself back: `run_step`).
     fn step(&mut self, h: f64) -> Result<Option<SolverWarning>, SolverError> {
-        // The check runs inside the rollback: a refusal after a checkpoint goes back to
-        // it, whatever refuses the step.
-        Rollback::step(self, false, |s| {
-            if !(h.is_finite() && h > 0.0) {
-                return Err(SolverError::BadStep(h));
-            }
-            s.run_step(h)
-        })?;
+        checked_step(self, h, false, |s| s.run_step(h))?;
         Ok(spin_warning(&self.m, self.spin_rate(), &mut self.warned))
     }
 
