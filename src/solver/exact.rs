@@ -24,12 +24,11 @@
 //! State layout (`State::data`): time, then the load part (`t_set`, 6m loads, 6m rates),
 //! then the modal amplitudes y (nL) and modal velocities y' (nL).
 
-use nalgebra::{DMatrix, DVector};
+use nalgebra::DVector;
 
 use super::continuous::{Continuous, check_states, modal_acceleration};
-use super::damping::LocalDamping;
 use super::expm::mode_coefficients;
-use super::nodes::{Exposed, LocalCoords, modal_basis, modal_solver_items};
+use super::nodes::{Exposed, LocalCoords, Modes, modal_solver_items};
 use super::rollback::{Restorable, Rollback};
 use super::{BoundedStep, Growth, Method, Options, Solver, SolverError, SolverWarning, State};
 use crate::scene::Scene;
@@ -39,12 +38,7 @@ use crate::scene::Scene;
 pub struct Exact {
     time: f64,
     io: Exposed,
-    /// `S = m^-1/2 V`, physical from modal coordinates.
-    basis: DMatrix<f64>,
-    omega: Vec<f64>,
-    /// `omega^2`.
-    w2: Vec<f64>,
-    damp: Vec<f64>,
+    modes: Modes,
     y: DVector<f64>,
     yd: DVector<f64>,
     alpha: LocalCoords,
@@ -77,17 +71,14 @@ fn norm2(a: f64, b: f64, c: f64, d: f64) -> f64 {
 
 impl Exact {
     /// Diagonalise the body and precompute the exposed-node rows in the modal basis;
-    /// the modal damping is [`LocalDamping::modal`] (Rayleigh plus the added ratio).
+    /// the modal damping is [`super::damping::LocalDamping::modal`] (Rayleigh plus the added ratio).
     pub fn new(scene: &Scene, opts: &Options) -> Result<Exact, SolverError> {
         let body = &scene.body;
         let nl = body.nl();
-        let (basis, omega) = modal_basis(body);
-        let damping = LocalDamping::new(body, opts.damping_ratio)?;
-        let w2: Vec<f64> = omega.iter().map(|&w| w * w).collect();
-        let damp = omega.iter().map(|&w| damping.modal(w)).collect();
-        let io = Exposed::new(scene, &basis)?;
+        let modes = Modes::new(body, opts.damping_ratio)?;
+        let io = Exposed::new(scene, &modes.basis)?;
         let load_gain = io.gt.norm() * ((6 * io.nodes) as f64).sqrt() * (1.0 + SLACK);
-        let w_min = omega.iter().copied().fold(f64::INFINITY, f64::min);
+        let w_min = modes.omega.iter().copied().fold(f64::INFINITY, f64::min);
         let scale = if w_min > 0.0 {
             (1.0 / w_min).max(1.0) * (1.0 + SLACK)
         } else {
@@ -101,10 +92,7 @@ impl Exact {
         let mut exact = Exact {
             time: 0.0,
             io,
-            basis,
-            omega,
-            w2,
-            damp,
+            modes,
             y: DVector::zeros(nl),
             yd: DVector::zeros(nl),
             alpha: LocalCoords::new(nl),
@@ -125,7 +113,7 @@ impl Exact {
 
     /// Modal circular frequencies (rad/s), in the order of the modal basis.
     pub fn omegas(&self) -> &[f64] {
-        &self.omega
+        &self.modes.omega
     }
 
     /// The coefficient slot of a step of `h`, computed if neither slot holds it.
@@ -147,7 +135,7 @@ impl Exact {
         let slot = self.next_slot;
         let nl = self.y.len();
         for i in 0..nl {
-            let c = mode_coefficients(self.omega[i], self.damp[i], h);
+            let c = mode_coefficients(self.modes.omega[i], self.modes.damp[i], h);
             for (k, &ck) in c.iter().enumerate() {
                 self.coef[slot][k * nl + i] = ck;
             }
@@ -179,7 +167,7 @@ impl Exact {
         let nl = self.y.len();
         let c = |k: usize, i: usize| self.coef[slot][k * nl + i];
         let (mut state, mut force) = (0.0f64, 0.0f64);
-        for (i, &w) in self.omega.iter().enumerate() {
+        for (i, &w) in self.modes.omega.iter().enumerate() {
             let (a, b, cc, d) = (c(0, i), w * c(1, i), c(4, i) / w, c(5, i));
             let frobenius = (a * a + b * b + cc * cc + d * d).sqrt();
             let g = norm2(a, b, cc, d) * (1.0 + SLACK) + SLACK * frobenius;
@@ -216,7 +204,13 @@ impl Exact {
     #[inline]
     fn acceleration(&self, j: usize) -> f64 {
         let g = self.io.force(j, self.time);
-        modal_acceleration(g, self.damp[j], self.w2[j], self.y[j], self.yd[j])
+        modal_acceleration(
+            g,
+            self.modes.damp[j],
+            self.modes.w2[j],
+            self.y[j],
+            self.yd[j],
+        )
     }
 }
 
@@ -282,7 +276,10 @@ impl Solver for Exact {
         Some(self)
     }
 
+    /// The caller may change the continuous states through it: the state measured last
+    /// is stale.
     fn continuous(&mut self) -> Option<&mut dyn Continuous> {
+        self.rollback.touch();
         Some(self)
     }
 }
@@ -381,7 +378,7 @@ impl Continuous for Exact {
         let gt = &self.io.gt;
         let amp = |j: usize| {
             let g = gt.row(j).iter().fold(0.0f64, |m, v| m.max(v.abs()));
-            g / self.w2[j]
+            g / self.modes.w2[j]
         };
         let fallback = (0..nl)
             .map(amp)
@@ -396,8 +393,8 @@ impl Continuous for Exact {
                 fallback
             };
             out[j] = a;
-            out[nl + j] = if self.omega[j] > 0.0 {
-                a * self.omega[j]
+            out[nl + j] = if self.modes.omega[j] > 0.0 {
+                a * self.modes.omega[j]
             } else {
                 a
             };
@@ -411,8 +408,8 @@ impl Continuous for Exact {
         a[..n * n].fill(0.0);
         for j in 0..nl {
             a[(nl + j) * n + j] = 1.0;
-            a[j * n + nl + j] = -self.w2[j];
-            a[(nl + j) * n + nl + j] = -self.damp[j];
+            a[j * n + nl + j] = -self.modes.w2[j];
+            a[(nl + j) * n + nl + j] = -self.modes.damp[j];
         }
         let loads = self.io.gt.ncols();
         b[..n * loads].fill(0.0);
@@ -448,7 +445,7 @@ mod tests {
     #[test]
     fn an_undamped_step_grows_as_the_closed_form_says() {
         let mut s = cantilever(0.0);
-        s.damp.iter_mut().for_each(|d| *d = 0.0);
+        s.modes.damp.iter_mut().for_each(|d| *d = 0.0);
         for h in [1e-6, 2e-4, 1e-3, 0.1, 3.7] {
             let g: Growth = s.growth(h).unwrap();
             assert!(
@@ -457,6 +454,7 @@ mod tests {
                 g.state
             );
             let force = s
+                .modes
                 .omega
                 .iter()
                 .map(|&w| 2.0 * (0.5 * w * h).sin().abs() / w)
@@ -484,7 +482,7 @@ mod tests {
             let mut s = cantilever(zeta);
             if zeta == 0.0 {
                 // Undamped, the body's Rayleigh damping included.
-                s.damp.iter_mut().for_each(|d| *d = 0.0);
+                s.modes.damp.iter_mut().for_each(|d| *d = 0.0);
             }
             // One exposed node (the tip): six loads.
             let mut loads = [0.0; 6];

@@ -210,12 +210,14 @@ impl Solver for Explicit {
 
     fn set_loads(&mut self, loads: &[f64]) -> Result<(), SolverError> {
         self.io.set_loads(loads, self.time)?;
+        self.rollback.touch();
         self.update_outputs();
         Ok(())
     }
 
     fn set_load_rates(&mut self, rates: &[f64]) -> Result<(), SolverError> {
         self.io.set_rates(rates, self.time)?;
+        self.rollback.touch();
         self.update_outputs();
         Ok(())
     }

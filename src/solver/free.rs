@@ -25,16 +25,46 @@ use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 use super::SolverError;
 use super::dense::bilinear;
 pub(crate) use super::loads::Loads;
+use super::rollback::{Restorable, Rollback};
 use crate::scene::Scene;
+
+/// A free method's step of `h`, all or nothing ([`Rollback::step`], `partway` as there):
+/// a step size that is no step is refused inside the rollback, so that a refusal after a
+/// checkpoint goes back to it whatever refuses the step; then `run`.
+pub(crate) fn checked_step<S: Restorable>(
+    s: &mut S,
+    h: f64,
+    partway: bool,
+    run: impl FnOnce(&mut S) -> Result<(), SolverError>,
+) -> Result<(), SolverError> {
+    Rollback::step(s, partway, |s| {
+        if !(h.is_finite() && h > 0.0) {
+            return Err(SolverError::BadStep(h));
+        }
+        run(s)
+    })
+}
 
 /// The [`crate::solver::Solver`] items every free method answers the same way from its
 /// coordinates `self.q`, its frame `self.p` and the shared [`FreeScene`] `self.m` (positions,
 /// node rotations, modal coordinates, strain energy, the frame, the state items of
 /// [`crate::solver::rollback`]), written once. Invoked inside each method's
 /// `impl Solver`; the method writes `write_state`, `state_len`, `set_state` and the
-/// velocity-dependent outputs itself.
+/// velocity-dependent outputs itself. Also the time `self.t`, and the load rates, which
+/// every free method holds in its `self.loads` alike.
 macro_rules! free_solver_common {
     () => {
+        fn time(&self) -> f64 {
+            self.t
+        }
+
+        fn set_load_rates(&mut self, rates: &[f64]) -> Result<(), $crate::solver::SolverError> {
+            self.m.check_loads("load rates", rates)?;
+            self.rollback.touch();
+            self.loads.set_rates(rates, self.t);
+            Ok(())
+        }
+
         fn positions(&self, out: &mut [f64]) {
             self.m.positions(&self.q, &self.p, out);
         }

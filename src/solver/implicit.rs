@@ -21,7 +21,7 @@
 //!
 //! The scheme is linear and its matrices are combinations of M, K and the Rayleigh
 //! damping `C = alpha M + beta K`, so it commutes with the change to the mass-normalised
-//! modes `q = S y` (see [`modal_basis`]): applied to every mode separately it gives the
+//! modes `q = S y` (see [`super::nodes::modal_basis`]): applied to every mode separately it gives the
 //! same numbers as applied to the coupled system, up to round-off. The step is then one
 //! scalar recursion per mode (the effective matrix is diagonal, its inverse stored per
 //! step size, two sizes kept), with loads and outputs going straight through the exposed
@@ -42,9 +42,8 @@
 
 use nalgebra::DVector;
 
-use super::damping::LocalDamping;
 use super::expm::mode_coefficients;
-use super::nodes::{Exposed, LocalCoords, modal_basis, modal_solver_items};
+use super::nodes::{Exposed, LocalCoords, Modes, modal_solver_items};
 use super::rollback::{Restorable, Rollback};
 use super::{Method, Options, Solver, SolverError, SolverWarning, State};
 use crate::scene::Scene;
@@ -83,14 +82,7 @@ impl AlphaParams {
 pub struct Implicit {
     time: f64,
     io: Exposed,
-    /// `S = m^-1/2 V`, physical from modal coordinates.
-    basis: nalgebra::DMatrix<f64>,
-    /// `omega` per mode.
-    omega: Vec<f64>,
-    /// `omega^2` per mode.
-    w2: Vec<f64>,
-    /// Modal damping `alpha + beta omega^2 (+ 2 zeta omega)` ([`LocalDamping::modal`]).
-    damp: Vec<f64>,
+    modes: Modes,
     /// The modes advanced exactly (they do not oscillate: `d >= 2 omega`, `d > 0`).
     exact: Vec<usize>,
     p: AlphaParams,
@@ -118,7 +110,7 @@ pub struct Implicit {
 
 impl Implicit {
     /// Build from a blocked scene; `opts.rho_inf` must lie in [0, 1]. The modal damping
-    /// is [`LocalDamping::modal`] (Rayleigh plus the added ratio).
+    /// is [`super::damping::LocalDamping::modal`] (Rayleigh plus the added ratio).
     pub fn new(scene: &Scene, opts: &Options) -> Result<Implicit, SolverError> {
         let rho_inf = opts.rho_inf;
         if !(0.0..=1.0).contains(&rho_inf) {
@@ -133,11 +125,9 @@ impl Implicit {
         }
         let body = &scene.body;
         let nl = body.nl();
-        let (basis, omega) = modal_basis(body);
-        let io = Exposed::new(scene, &basis)?;
-        let damping = LocalDamping::new(body, opts.damping_ratio)?;
-        let w2: Vec<f64> = omega.iter().map(|&w| w * w).collect();
-        let damp: Vec<f64> = omega.iter().map(|&w| damping.modal(w)).collect();
+        let modes = Modes::new(body, opts.damping_ratio)?;
+        let io = Exposed::new(scene, &modes.basis)?;
+        let (damp, omega) = (&modes.damp, &modes.omega);
         let exact = (0..nl)
             .filter(|&j| damp[j] > 0.0 && damp[j] >= 2.0 * omega[j])
             .collect::<Vec<_>>();
@@ -145,10 +135,7 @@ impl Implicit {
         let mut implicit = Implicit {
             time: 0.0,
             io,
-            basis,
-            omega,
-            w2,
-            damp,
+            modes,
             exact,
             p: AlphaParams::new(rho_inf),
             y: DVector::zeros(nl),
@@ -185,7 +172,8 @@ impl Implicit {
         let p = self.p;
         let c = 1.0 - p.af;
         for (j, inv) in self.inv[slot].iter_mut().enumerate() {
-            let s = (1.0 - p.am) + c * (p.gamma * h * self.damp[j] + p.beta * h * h * self.w2[j]);
+            let s = (1.0 - p.am)
+                + c * (p.gamma * h * self.modes.damp[j] + p.beta * h * h * self.modes.w2[j]);
             // The exact modes have no effective mass (it may overflow): unused.
             *inv = if s > 0.0 && s.is_finite() {
                 1.0 / s
@@ -194,7 +182,7 @@ impl Implicit {
             };
         }
         for (k, &j) in self.exact.iter().enumerate() {
-            let cj = mode_coefficients(self.omega[j], self.damp[j], h);
+            let cj = mode_coefficients(self.modes.omega[j], self.modes.damp[j], h);
             self.coef[slot][8 * k..8 * k + 8].copy_from_slice(&cj);
         }
         let bad_alpha = (0..self.y.len())
@@ -298,10 +286,10 @@ impl Implicit {
             let f0 = f[j] + fd[j] * dt0;
             let y1 = cj[0] * y0 + cj[1] * v0 + cj[2] * f0 + cj[3] * fd[j];
             let v1 = cj[4] * y0 + cj[5] * v0 + cj[6] * f0 + cj[7] * fd[j];
-            self.scratch[k] = (y1, v1, -self.damp[j] * v1 - self.w2[j] * y1);
+            self.scratch[k] = (y1, v1, -self.modes.damp[j] * v1 - self.modes.w2[j] * y1);
         }
         let inv = &self.inv[slot][..n];
-        let (w2, d) = (&self.w2[..n], &self.damp[..n]);
+        let (w2, d) = (&self.modes.w2[..n], &self.modes.damp[..n]);
         let y = &mut self.y.as_mut_slice()[..n];
         let v = &mut self.v.as_mut_slice()[..n];
         let a = &mut self.a.as_mut_slice()[..n];

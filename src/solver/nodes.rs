@@ -275,12 +275,14 @@ macro_rules! modal_solver_items {
 
         fn set_loads(&mut self, loads: &[f64]) -> Result<(), $crate::solver::SolverError> {
             self.io.set_loads(loads, self.time)?;
+            self.rollback.touch();
             self.refresh();
             Ok(())
         }
 
         fn set_load_rates(&mut self, rates: &[f64]) -> Result<(), $crate::solver::SolverError> {
             self.io.set_rates(rates, self.time)?;
+            self.rollback.touch();
             self.refresh();
             Ok(())
         }
@@ -306,11 +308,11 @@ macro_rules! modal_solver_items {
         }
 
         fn modal(&self) -> &[f64] {
-            self.alpha.get(&self.basis, &self.y)
+            self.alpha.get(&self.modes.basis, &self.y)
         }
 
         fn strain_energy(&self) -> f64 {
-            $crate::solver::nodes::modal_strain_energy(&self.y, &self.w2)
+            $crate::solver::nodes::modal_strain_energy(&self.y, &self.modes.w2)
         }
 
         fn kinetic_energy(&self) -> f64 {
@@ -392,6 +394,39 @@ impl std::fmt::Debug for LocalCoords {
 /// damping `diag(alpha + beta w^2)`: every mode is independent.
 pub fn modal_basis(body: &crate::body::Body) -> (DMatrix<f64>, Vec<f64>) {
     (body.modal.shapes.clone(), body.modal.omega())
+}
+
+/// The modes a blocked method steps one by one (the exact and the implicit method alike):
+/// the mass-normalised basis ([`modal_basis`]), each mode's circular frequency, its
+/// square, and its modal damping ([`super::damping::LocalDamping::modal`]: Rayleigh plus
+/// the added ratio), in the order of the basis.
+#[derive(Debug, Clone)]
+pub struct Modes {
+    /// `S = m^-1/2 V`, physical from modal coordinates.
+    pub basis: DMatrix<f64>,
+    /// `omega` per mode.
+    pub omega: Vec<f64>,
+    /// `omega^2` per mode.
+    pub w2: Vec<f64>,
+    /// Modal damping `alpha + beta omega^2 (+ 2 zeta omega)`.
+    pub damp: Vec<f64>,
+}
+
+impl Modes {
+    /// The modes of a blocked body with the added damping ratio `zeta` (refused where
+    /// [`super::damping::LocalDamping::new`] refuses it).
+    pub fn new(body: &crate::body::Body, zeta: f64) -> Result<Modes, SolverError> {
+        let (basis, omega) = modal_basis(body);
+        let damping = super::damping::LocalDamping::new(body, zeta)?;
+        let w2 = omega.iter().map(|&w| w * w).collect();
+        let damp = omega.iter().map(|&w| damping.modal(w)).collect();
+        Ok(Modes {
+            basis,
+            omega,
+            w2,
+            damp,
+        })
+    }
 }
 
 /// Strain energy `1/2 sum w_i^2 y_i^2` of mass-normalised modal amplitudes `y` with

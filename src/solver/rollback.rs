@@ -5,18 +5,28 @@
 //!
 //! A method holds one [`Rollback`]: one buffer for its complete state (the layout
 //! `set_state` reads), sized at build, so that saving and restoring never allocate. A
-//! step that can fail after it changed the state (the free methods: a frame that is no
-//! longer a rotation, a Newton iteration that does not converge, numbers that overflow)
-//! saves the state into it first, unless a checkpoint taken just before already holds
-//! it; a step that can only fail before it changes anything (the blocked methods: a bad
-//! step size or a step too long for the budget, refused before any work) saves nothing,
-//! so the exact method's step copies nothing. Either way a refused step leaves the
-//! state bit for bit as it was.
+//! step that can fail after it changed the state (the free explicit and split methods:
+//! a frame that is no longer a rotation, numbers that overflow) saves the state into it
+//! first, unless a checkpoint taken just before already holds it; a step that can only
+//! fail before it changes anything (the blocked methods: a bad step size or a step too
+//! long for the budget, refused before any work) saves nothing, so the exact method's
+//! step copies nothing; a step that keeps a copy of its own for its work puts itself
+//! back from it (the free implicit method, whose Newton iteration starts a split step
+//! again from the state before it) and saves nothing here either. Either way a refused
+//! step leaves the state bit for bit as it was.
 //!
 //! A checkpoint serves the one step after it: a step refused after a checkpoint goes
 //! back to it (the loads and rates set since then included), and [`Solver::rewind`]
 //! after that step, accepted or refused, goes back to it as well. The next step, or a
 //! state set with `set_state`, ends it.
+//!
+//! A caller that checks each step (the FMU's guard) measures the state after it
+//! ([`Solver::state_below`], a copy into a second buffer) and takes a checkpoint before
+//! the next: when nothing changed the state in between, that copy is the checkpoint,
+//! and the two buffers swap instead of the state being copied again. Every change of the
+//! state outside a step (loads, rates, a state set, the continuous states of Model
+//! Exchange) marks the measured copy stale ([`Rollback::touch`]), so a checkpoint then
+//! copies the state afresh.
 
 use super::{Method, Solver, SolverError, State};
 
@@ -27,6 +37,9 @@ pub(crate) struct Rollback {
     /// Where [`Rollback::state_below`] writes the state it measures (the checkpoint must
     /// stay as it is), sized like `saved`.
     scratch: Vec<f64>,
+    /// `scratch` holds the complete state as it is now: written by
+    /// [`Rollback::state_below`], and nothing changed the state since.
+    current: bool,
     mark: Mark,
 }
 
@@ -95,6 +108,7 @@ impl Rollback {
                 data: Vec::with_capacity(len),
             },
             scratch: Vec::with_capacity(len),
+            current: false,
             mark: Mark::default(),
         }
     }
@@ -103,11 +117,27 @@ impl Rollback {
     /// belongs to it.
     pub(crate) fn forget(&mut self) {
         self.mark.forget();
+        self.current = false;
     }
 
-    /// [`Solver::checkpoint`]: save the complete state now.
+    /// The state changed outside a step (loads, rates, the continuous states): the copy
+    /// [`Rollback::state_below`] measured no longer holds it.
+    #[inline]
+    pub(crate) fn touch(&mut self) {
+        self.current = false;
+    }
+
+    /// [`Solver::checkpoint`]: save the complete state now; when the copy the last
+    /// [`Rollback::state_below`] measured still holds it, that copy becomes the
+    /// checkpoint (the buffers swap, nothing is copied).
     pub(crate) fn checkpoint<S: Restorable>(s: &mut S) {
-        save(s);
+        let r = s.rollback();
+        if r.current {
+            std::mem::swap(&mut r.saved.data, &mut r.scratch);
+            r.current = false;
+        } else {
+            save(s);
+        }
         s.rollback().mark.set();
     }
 
@@ -117,6 +147,7 @@ impl Rollback {
         if !mark.rewind() {
             return Err(no_checkpoint());
         }
+        s.rollback().current = false;
         restore(s)?;
         s.rollback().mark = mark;
         Ok(())
@@ -128,7 +159,9 @@ impl Rollback {
         let mut data = std::mem::take(&mut s.rollback().scratch);
         s.write_state(&mut data);
         let below = squares_below(&data, bound);
-        s.rollback().scratch = data;
+        let r = s.rollback();
+        r.scratch = data;
+        r.current = true;
         below
     }
 
@@ -140,7 +173,9 @@ impl Rollback {
         partway: bool,
         step: impl FnOnce(&mut S) -> Result<T, SolverError>,
     ) -> Result<T, SolverError> {
-        let held = s.rollback().mark.step();
+        let r = s.rollback();
+        r.current = false;
+        let held = r.mark.step();
         if partway && !held {
             save(s);
         }

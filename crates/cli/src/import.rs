@@ -18,9 +18,12 @@ use std::path::{Path, PathBuf};
 
 use fxbody::fxb;
 use fxbody_import::fe::{self, Deck, SymMatrix};
+use fxbody_import::report::MAYBE_FREE;
 use fxbody_import::whole::spider::SpiderSpec;
 use fxbody_import::whole::{WholeModel, WholeOptions};
-use fxbody_import::{ImportError, Imported, Options, SingularHint, Support};
+use fxbody_import::{
+    ImportError, Imported, MAX_DENSE_DOFS, Options, SingularHint, Support, Warning,
+};
 
 /// Arguments of `import`.
 #[derive(Debug, clap::Args)]
@@ -297,6 +300,16 @@ fn worded(e: &ImportError) -> String {
         ImportError::BadDamping(..) => format!("--damping: {e}"),
         ImportError::BadNodes(_) => format!("--nodes: {e}"),
         ImportError::CoordinatesNeeded => format!("{e}: give --coords"),
+        ImportError::TooLarge(n) => format!(
+            "dense size {n} DOFs exceeds the limit of {MAX_DENSE_DOFS}: import the whole model \
+             through the sparse route with --fmax (a CalculiX deck JOB.inp, or these matrices \
+             with --coords and --nodes), or reduce it in your FE code"
+        ),
+        ImportError::NotRigid { held: true, .. } => format!("{e} (import them without --free)"),
+        ImportError::NoConnections { deck } => format!(
+            "{deck} has no *RIGID BODY spider whose REF node moves: give the connection nodes \
+             with --nodes, or build a spider with --spider NSET:rigid"
+        ),
         ImportError::BadSpider(_) => format!("--spider: {e}"),
         ImportError::FmaxNeeded { .. } => format!("{e}: give --fmax"),
         ImportError::SingularBlocked { hint, .. } => format!(
@@ -311,6 +324,18 @@ fn worded(e: &ImportError) -> String {
             }
         ),
         _ => e.to_string(),
+    }
+}
+
+/// A warning of the import's report on the command line: the advice names the options
+/// that give what the library's wording only describes.
+fn warning_worded(w: &Warning) -> String {
+    match w {
+        Warning::Resolution(r) if r.maybe_free => format!(
+            "{}{MAYBE_FREE}: give its coordinates (--coords) and --free",
+            r.finding()
+        ),
+        _ => w.to_string(),
     }
 }
 
@@ -400,7 +425,7 @@ fn options(args: &ImportArgs) -> Result<Options, String> {
 
 /// Write the body, its coordinates and the JSON report; the report text for stdout.
 fn write(args: &ImportArgs, built: &Imported) -> Result<String, String> {
-    let mut out = built.report.text();
+    let mut out = built.report.text(&warning_worded);
     if let Some(c) = args.units {
         out.push_str(&format!(
             "units: the body is in {} (declare them in the FMU with fxbody pack --units {})\n",
@@ -408,7 +433,7 @@ fn write(args: &ImportArgs, built: &Imported) -> Result<String, String> {
         ));
     }
     if let Some(path) = &args.report {
-        let text = serde_json::to_string_pretty(&built.report.json())
+        let text = serde_json::to_string_pretty(&built.report.json(&warning_worded))
             .map_err(|e| format!("--report: {e}"))?;
         std::fs::write(path, text + "\n")
             .map_err(|e| format!("{}: cannot write: {e}", path.display()))?;
@@ -461,6 +486,57 @@ mod tests {
         assert_eq!(
             worded(&e(Some(SingularHint::GiveCoords))),
             format!("{base}; for a free body give its coordinates (--coords)")
+        );
+    }
+
+    /// The refusals and the warning whose advice the library gives as data read on the
+    /// command line as they did when the library wrote the options (issue 27.6).
+    #[test]
+    fn refusals_and_warnings_given_as_data_name_the_options() {
+        assert_eq!(
+            worded(&ImportError::TooLarge(4000)),
+            "dense size 4000 DOFs exceeds the limit of 3000: import the whole model through \
+             the sparse route with --fmax (a CalculiX deck JOB.inp, or these matrices with \
+             --coords and --nodes), or reduce it in your FE code"
+        );
+        let held = ImportError::NotRigid {
+            motion: "x".into(),
+            rel: 0.5,
+            dof: fe::Dof::new(3, 1),
+            diagnosis: "; K has no zero-energy mode: the matrices are of a held body".into(),
+            held: true,
+        };
+        assert_eq!(
+            worded(&held),
+            "rigid motion 'x' is not in K's null space (|K r|/|K||r| = 0.5, largest residual \
+             at 3.1); K has no zero-energy mode: the matrices are of a held body (import them \
+             without --free)"
+        );
+        assert_eq!(
+            worded(&ImportError::NoConnections {
+                deck: "JOB.inp".into()
+            }),
+            "JOB.inp has no *RIGID BODY spider whose REF node moves: give the connection nodes \
+             with --nodes, or build a spider with --spider NSET:rigid"
+        );
+        let resolution = |maybe_free| {
+            warning_worded(&Warning::Resolution(fxbody_import::Resolution {
+                ratio: 5.7e-15,
+                accuracy: 0.039,
+                maybe_free,
+            }))
+        };
+        let finding = "the lowest eigenvalue is 5.7e-15 of the largest: double precision \
+                       guarantees it only to about 0.039 relative (its frequency to half \
+                       that), and matrices written with fewer digits (a punch's 10) may not \
+                       determine it at all";
+        assert_eq!(resolution(false), finding);
+        assert_eq!(
+            resolution(true),
+            format!(
+                "{finding}; if the body is free, its six lowest modes may be rigid motions the \
+                 rounding left slightly stiff: give its coordinates (--coords) and --free"
+            )
         );
     }
 }

@@ -43,45 +43,41 @@ fn study_is_refused_as_an_unknown_command() {
     assert!(e.contains("unrecognized subcommand 'study'"), "{e}");
 }
 
+/// `fxbody import` of the test punch with its coordinates and `args`, refused: its
+/// standard error. Nothing is written.
+fn import_refused(args: &[&str]) -> String {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let out = std::env::temp_dir().join(format!("fxbody_cli_import_{}.fxb", std::process::id()));
+    let o = Command::new(env!("CARGO_BIN_EXE_fxbody"))
+        .arg("import")
+        .arg(root.join("tests/data/fe/punch.pch"))
+        .arg("--coords")
+        .arg(root.join("tests/data/fe/nodes.csv"))
+        .args(args)
+        .arg("-o")
+        .arg(&out)
+        .output()
+        .expect("the fxbody binary runs");
+    assert_eq!(o.status.code(), Some(2));
+    assert!(!out.exists());
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
 /// The import library's errors name no option (issue 27.6): the command words them. A
 /// cut-off frequency the library refuses is named `--fmax` once, with the value given;
 /// a unit system the command's grammar cannot read is refused naming `--units` and the
 /// expected form.
 #[test]
 fn the_command_names_the_option_of_a_bad_value() {
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-    let out = std::env::temp_dir().join(format!("fxbody_cli_units_{}.fxb", std::process::id()));
-    let o = Command::new(env!("CARGO_BIN_EXE_fxbody"))
-        .arg("import")
-        .arg(root.join("tests/data/fe/punch.pch"))
-        .arg("--coords")
-        .arg(root.join("tests/data/fe/nodes.csv"))
-        .args(["--fmax", "0", "-o"])
-        .arg(&out)
-        .output()
-        .expect("the fxbody binary runs");
-    assert_eq!(o.status.code(), Some(2));
-    let e = String::from_utf8_lossy(&o.stderr);
+    let e = import_refused(&["--fmax", "0"]);
     assert!(
         e.contains("--fmax: the cut-off frequency must be finite and > 0 Hz, got 0")
             && e.matches("--fmax").count() == 1,
         "{e}"
     );
-    assert!(!out.exists());
-    let o = Command::new(env!("CARGO_BIN_EXE_fxbody"))
-        .arg("import")
-        .arg(root.join("tests/data/fe/punch.pch"))
-        .arg("--coords")
-        .arg(root.join("tests/data/fe/nodes.csv"))
-        .args(["--units", "mm-lb-s:m-kg-s", "-o"])
-        .arg(&out)
-        .output()
-        .expect("the fxbody binary runs");
-    assert_eq!(o.status.code(), Some(2));
-    let e = String::from_utf8_lossy(&o.stderr);
+    let e = import_refused(&["--units", "mm-lb-s:m-kg-s"]);
     assert!(
         e.contains("'--units <UNITS>'") && e.contains("found 'mm-lb-s:m-kg-s'"),
         "{e}"
     );
-    assert!(!out.exists());
 }

@@ -15,7 +15,7 @@ use nalgebra::DMatrix;
 use super::dense;
 use super::dofs::Reduced;
 use super::modes::Basis;
-use super::report::Report;
+use super::report::{Report, Warning};
 use super::rigid::{MassProps, mode_value, modes_on};
 use super::scale::Scale;
 use super::{ImportError, Options};
@@ -221,11 +221,11 @@ pub fn fxb(
     let (exact, d) = p.m_r(irot);
     report.naive_m_r_diff = Some((&naive - &exact).norm() / exact.norm());
     if report.naive_m_r_diff.is_some_and(|v| v > 0.01) {
-        report.warnings.push(format!(
+        report.warnings.push(Warning::Text(format!(
             "the naive M_R = Phi_R^T M Phi_R (what OpenRadioss builds from a reduced mass) \
              differs from the rotation-invariant one by {:.1}%: written is the invariant one",
             100.0 * report.naive_m_r_diff.unwrap_or(0.0)
-        ));
+        )));
     }
     report.rotary = irot.then_some(model.scale.mass_out(d));
     let m_r = if opts.naive_mass_r { naive } else { exact };

@@ -9,7 +9,7 @@
 
 use nalgebra::DMatrix;
 
-use super::report::Report;
+use super::report::{Report, Warning};
 use super::{ImportError, MAX_DENSE_DOFS, Units};
 use crate::fe::{Dof, SymMatrix};
 
@@ -183,9 +183,9 @@ pub fn reduce(model: DofMatrices, report: &mut Report) -> Result<Reduced, Import
             z.push(i);
         } else {
             if row_is_zero(&k, i) {
-                report
-                    .warnings
-                    .push(format!("DOF {dof} has mass but no stiffness"));
+                report.warnings.push(Warning::Text(format!(
+                    "DOF {dof} has mass but no stiffness"
+                )));
             }
             a.push(i);
         }

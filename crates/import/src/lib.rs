@@ -43,7 +43,7 @@ pub mod tridiag;
 pub mod units;
 pub mod whole;
 
-pub use report::Report;
+pub use report::{Report, Resolution, Warning};
 pub use units::Units;
 
 /// The largest dense problem `import` solves (DOFs, before dead-DOF removal). Above it the
@@ -118,13 +118,24 @@ pub enum ImportError {
     /// Too many DOFs for the dense solver.
     #[error(
         "dense size {0} DOFs exceeds the limit of {MAX_DENSE_DOFS}: import the whole model \
-         through the sparse route with --fmax (a CalculiX deck JOB.inp, or these matrices \
-         with --coords and --nodes), or reduce it in your FE code"
+         through the sparse route (the whole-model import: a CalculiX deck, or these matrices with their \
+         coordinates and connection nodes, and the highest frequency to keep), or reduce it \
+         in your FE code"
     )]
     TooLarge(usize),
     /// The whole-model route (sparse reduction) failed: the cause, named.
     #[error("{0}")]
     Whole(String),
+    /// A whole model without a connection node: no spider whose reference node moves,
+    /// none built, none named.
+    #[error(
+        "{deck} has no *RIGID BODY spider whose REF node moves: give the connection nodes, \
+         or build a spider on a node set"
+    )]
+    NoConnections {
+        /// The deck's name.
+        deck: String,
+    },
     /// A spider to build on a node set cannot be built as asked: the cause, named.
     #[error("{0}")]
     BadSpider(String),
@@ -208,6 +219,9 @@ pub enum ImportError {
         dof: Dof,
         /// What K's null space says instead (units, zero-energy count), from `"; "`.
         diagnosis: String,
+        /// K has no zero-energy mode: the matrices are of a held body, which the command
+        /// can say how to import.
+        held: bool,
     },
     /// More zero-energy modes than rigid motions.
     #[error("K has {0} zero-energy modes (6 expected): mechanism")]
@@ -388,11 +402,11 @@ pub fn build(
         .filter(|&&i| node_ids.contains(&reduced.all[i].id) && !reduced.all[i].is_scalar())
         .count();
     if on_nodes > 0 {
-        report.warnings.push(format!(
+        report.warnings.push(Warning::Text(format!(
             "{on_nodes} massless DOFs of the body's nodes were condensed out: a force or \
              moment applied there acts through the DOFs with mass only (its local \
              flexibility with those held has no mass to make a mode of)"
-        ));
+        )));
     }
     if let Some(c) = &coords
         && let Some(&id) = grid_ids.iter().find(|id| !c.contains_key(id))
@@ -417,7 +431,7 @@ pub fn build(
         .map(|f| reduced.scale.eigenvalue_in(modes::cut_eigenvalue(f)));
     let el = modes::elastic(&reduced, &form, rigid, cut, &mut |s| stages.done(s))?;
     if let Some(w) = modes::resolution_warning(&el, free, props.is_some()) {
-        report.warnings.push(w);
+        report.warnings.push(Warning::Resolution(w));
     }
     let basis = modes::local_basis(&reduced, &el, &form.l, rigid, &node_ids, &mut report)?;
     drop(form);
@@ -436,4 +450,82 @@ pub fn build(
         coords: node_coords,
         report,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A library message names no command-line option: no `--` followed by a letter.
+    fn names_no_option(text: &str) -> bool {
+        !text
+            .as_bytes()
+            .windows(3)
+            .any(|w| w[0] == b'-' && w[1] == b'-' && w[2].is_ascii_alphabetic())
+    }
+
+    #[test]
+    fn the_option_finder_finds_an_option() {
+        assert!(!names_no_option("give --coords"));
+        assert!(names_no_option("a - b -- c"));
+    }
+
+    /// The refusal of a model too large for the dense route says where to go, in words.
+    #[test]
+    fn too_large_names_no_option() {
+        let text = ImportError::TooLarge(4000).to_string();
+        assert!(names_no_option(&text), "{text}");
+        assert!(
+            text.contains("4000 DOFs exceeds the limit of 3000"),
+            "{text}"
+        );
+        assert!(text.contains("sparse route"), "{text}");
+    }
+
+    /// Coordinates whose rigid motions K holds nowhere, on a K of a held body: the data
+    /// says so, the message names no option.
+    #[test]
+    fn not_rigid_of_a_held_body_names_no_option() {
+        let e = ImportError::NotRigid {
+            motion: "x".into(),
+            rel: 1.0,
+            dof: Dof::new(3, 1),
+            diagnosis: "; K has no zero-energy mode: the matrices are of a held body".into(),
+            held: true,
+        };
+        let text = e.to_string();
+        assert!(names_no_option(&text), "{text}");
+        assert!(text.ends_with("the matrices are of a held body"), "{text}");
+    }
+
+    /// A whole model without connection nodes: what to give, in words.
+    #[test]
+    fn no_connections_names_no_option() {
+        let e = ImportError::NoConnections {
+            deck: "JOB.inp".into(),
+        };
+        let text = e.to_string();
+        assert!(names_no_option(&text), "{text}");
+        assert!(
+            text.starts_with("JOB.inp has no *RIGID BODY spider"),
+            "{text}"
+        );
+    }
+
+    /// The resolution warning, with and without the advice for a body that may be free,
+    /// in the library's words: no option named.
+    #[test]
+    fn the_resolution_warning_names_no_option() {
+        for maybe_free in [false, true] {
+            let w = Warning::Resolution(Resolution {
+                ratio: 5.7e-15,
+                accuracy: 0.039,
+                maybe_free,
+            });
+            let text = w.to_string();
+            assert!(names_no_option(&text), "{text}");
+            assert!(text.contains("5.7e-15 of the largest"), "{text}");
+            assert_eq!(text.contains("import it as free"), maybe_free, "{text}");
+        }
+    }
 }

@@ -22,7 +22,7 @@ use nalgebra::{DMatrix, DVector};
 use super::ImportError;
 use super::dense;
 use super::dofs::Reduced;
-use super::report::Report;
+use super::report::{Report, Resolution};
 use super::rigid::MassProps;
 use super::support::NEGATIVE;
 
@@ -94,8 +94,8 @@ const RESOLUTION_WARN: f64 = 1e-3;
 /// `eps |A| / lambda_min` above `RESOLUTION_WARN`, which is also what a free body's
 /// rigid modes look like when the matrices' rounding left them slightly stiff (a 10-digit
 /// punch: 5.7e-15 of the largest) and the body was imported as held without coordinates
-/// (its rigid motions unknown); `None` else.
-pub fn resolution_warning(el: &Elastic, free: bool, coords: bool) -> Option<String> {
+/// (its rigid motions unknown: [`Resolution::maybe_free`]); `None` else.
+pub fn resolution_warning(el: &Elastic, free: bool, coords: bool) -> Option<Resolution> {
     let lowest = *el.lambda.first()?;
     let ratio = lowest / el.solved_norm;
     let accuracy = f64::EPSILON / ratio;
@@ -103,19 +103,11 @@ pub fn resolution_warning(el: &Elastic, free: bool, coords: bool) -> Option<Stri
         return None;
     }
     let two = |x: f64| format!("{x:.1e}").parse().unwrap_or(x);
-    Some(format!(
-        "the lowest eigenvalue is {} of the largest: double precision guarantees it only to \
-         about {} relative (its frequency to half that), and matrices written with fewer \
-         digits (a punch's 10) may not determine it at all{}",
-        fxbody::num::num(two(ratio)),
-        fxbody::num::num(two(accuracy)),
-        if free || coords {
-            ""
-        } else {
-            "; if the body is free, its six lowest modes may be rigid motions the rounding \
-             left slightly stiff: give its coordinates (--coords) and --free"
-        }
-    ))
+    Some(Resolution {
+        ratio: two(ratio),
+        accuracy: two(accuracy),
+        maybe_free: !(free || coords),
+    })
 }
 
 /// With a cut keeping at most this share of the modes, only the kept eigenvectors are

@@ -24,7 +24,7 @@ pub struct Report {
     /// Massless DOFs condensed out, as `id.comp`.
     pub condensed: Vec<String>,
     /// Non-fatal findings.
-    pub warnings: Vec<String>,
+    pub warnings: Vec<Warning>,
     /// `|K r| / (|K| |r|)` of the six rigid motions (when coordinates are known).
     pub rigid_residuals: Vec<f64>,
     /// Eigenmodes kept.
@@ -56,6 +56,66 @@ pub struct Report {
     pub whole: Option<crate::whole::WholeReport>,
 }
 
+/// A non-fatal finding of the import. Where the advice would name what to give the
+/// import, the finding is data and the command words it with its own options; `Display`
+/// words it for a library user, naming no option.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Warning {
+    /// A finding that names nothing to give: worded here.
+    Text(String),
+    /// The lowest eigenvalue is determined only roughly ([`Resolution`]).
+    Resolution(Resolution),
+}
+
+/// Double precision determines the lowest eigenvalue only to `accuracy` relative
+/// ([`crate::modes::resolution_warning`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Resolution {
+    /// The lowest eigenvalue over the largest, two digits.
+    pub ratio: f64,
+    /// `eps / ratio`, two digits: how far double precision guarantees the lowest.
+    pub accuracy: f64,
+    /// The body was imported as held without coordinates: its six lowest modes may be
+    /// the rigid motions of a free body, left slightly stiff by the matrices' rounding.
+    pub maybe_free: bool,
+}
+
+/// The start of [`Resolution`]'s advice when the body may be free; each wording ends it
+/// with what to give.
+pub const MAYBE_FREE: &str = "; if the body is free, its six lowest modes may be rigid motions \
+                              the rounding left slightly stiff";
+
+impl Resolution {
+    /// The finding, without the advice for a body that may be free.
+    pub fn finding(&self) -> String {
+        format!(
+            "the lowest eigenvalue is {} of the largest: double precision guarantees it only \
+             to about {} relative (its frequency to half that), and matrices written with \
+             fewer digits (a punch's 10) may not determine it at all",
+            fxbody::num::num(self.ratio),
+            fxbody::num::num(self.accuracy),
+        )
+    }
+}
+
+impl std::fmt::Display for Warning {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Warning::Text(t) => f.write_str(t),
+            Warning::Resolution(r) => {
+                f.write_str(&r.finding())?;
+                if r.maybe_free {
+                    write!(
+                        f,
+                        "{MAYBE_FREE}: give its coordinates and import it as free"
+                    )?;
+                }
+                Ok(())
+            }
+        }
+    }
+}
+
 impl Report {
     /// Record the mass properties, computed on M scaled by `scale` (back to the
     /// matrices' units here).
@@ -77,8 +137,9 @@ impl Report {
         1.0 / (std::f64::consts::PI * self.freq)
     }
 
-    /// Human-readable summary.
-    pub fn text(&self) -> String {
+    /// Human-readable summary, each warning as `worded` words it (the command names its
+    /// options; `ToString::to_string` for the library's wording).
+    pub fn text(&self, worded: &dyn Fn(&Warning) -> String) -> String {
         let mut o = String::new();
         if let Some(w) = &self.whole {
             let _ = writeln!(
@@ -200,13 +261,14 @@ impl Report {
             );
         }
         for w in &self.warnings {
-            let _ = writeln!(o, "warning: {w}");
+            let _ = writeln!(o, "warning: {}", worded(w));
         }
         o
     }
 
-    /// The JSON report.
-    pub fn json(&self) -> Value {
+    /// The JSON report, each warning as `worded` words it (as in [`Report::text`]).
+    pub fn json(&self, worded: &dyn Fn(&Warning) -> String) -> Value {
+        let warnings: Vec<String> = self.warnings.iter().map(worded).collect();
         let mass = self
             .mass
             .as_ref()
@@ -231,7 +293,7 @@ impl Report {
             "rigid_residuals": self.rigid_residuals,
             "naive_m_r_rel_diff": self.naive_m_r_diff,
             "offdiag_dropped": self.offdiag,
-            "warnings": self.warnings,
+            "warnings": warnings,
             "whole_model": self.whole.as_ref().map(|w| json!({
                 "equations": w.equations,
                 "nnz_k": w.nnz,

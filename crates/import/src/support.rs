@@ -186,12 +186,12 @@ fn not_rigid(
         .enumerate()
         .max_by(|a, b| a.1.0.total_cmp(&b.1.0))
         .expect("six motions");
-    let diagnosis = if let Some(p) = units_ratio(model, props) {
+    let units = units_ratio(model, props);
+    let held = definite_k && units.is_none();
+    let diagnosis = if let Some(p) = units {
         format!("; {}", units_text(p))
-    } else if definite_k {
-        "; K has no zero-energy mode: the matrices are of a held body (import them without \
-         --free)"
-            .to_string()
+    } else if held {
+        "; K has no zero-energy mode: the matrices are of a held body".to_string()
     } else {
         match k_zero_count(form) {
             Err(e) => return e,
@@ -210,6 +210,7 @@ fn not_rigid(
         rel,
         dof: model.all[model.a[row]],
         diagnosis,
+        held,
     }
 }
 

@@ -235,10 +235,9 @@ fn connections(
             .collect(),
     };
     if ids.is_empty() {
-        return Err(ImportError::BadNodes(format!(
-            "{deck_name} has no *RIGID BODY spider whose REF node moves: give the connection \
-             nodes with --nodes, or build a spider with --spider NSET:rigid"
-        )));
+        return Err(ImportError::NoConnections {
+            deck: deck_name.to_string(),
+        });
     }
     let mut seen = HashSet::new();
     let mut out = Vec::new();
@@ -319,6 +318,7 @@ fn build_on(
             diagnosis: "; the model is held (fixed DOFs have no equation in the .dof file), \
                         or a spider's ROT node is not declared by *RIGID BODY in the deck"
                 .into(),
+            held: false,
         });
     }
     times.done("whole: connections, rigid motions");

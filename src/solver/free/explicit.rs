@@ -50,8 +50,8 @@ use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 
 use super::lu::Lu;
 use super::{
-    FreeScene, Loads, MAX_FRAME_ERROR, SPIN_STEP, drag_warning, frame_omega, point_vec,
-    spin_warning,
+    FreeScene, Loads, MAX_FRAME_ERROR, SPIN_STEP, checked_step, drag_warning, frame_omega,
+    point_vec, spin_warning,
 };
 use crate::scene::Scene;
 use crate::solver::nodes::check_state;
@@ -390,12 +390,9 @@ impl Solver for Explicit {
         Method::Explicit
     }
 
-    fn time(&self) -> f64 {
-        self.t
-    }
-
     fn set_loads(&mut self, loads: &[f64]) -> Result<(), SolverError> {
         self.m.check_loads("loads", loads)?;
+        self.rollback.touch();
         let t = self.t;
         // A jump is a change beyond round-off of the value the load function has now (a
         // master re-sending a continuous load computes it in its own way).
@@ -411,23 +408,12 @@ impl Solver for Explicit {
         Ok(())
     }
 
-    fn set_load_rates(&mut self, rates: &[f64]) -> Result<(), SolverError> {
-        self.m.check_loads("load rates", rates)?;
-        self.loads.set_rates(rates, self.t);
-        Ok(())
-    }
-
     /// Advance by `h`. Refused before any work when the sub-cycles at the current step
     /// limit exceed [`MAX_INTERNAL_STEPS`] (the limit shrinks as the spin rate grows, so
     /// a spin-up within the step that pushes the count past the budget is refused when
     /// it happens). On any error the state is as before the call.
     fn step(&mut self, h: f64) -> Result<Option<SolverWarning>, SolverError> {
-        // The checks run inside the rollback: a refusal after a checkpoint goes back to
-        // it, whatever refuses the step.
-        Rollback::step(self, true, |s| {
-            if !(h.is_finite() && h > 0.0) {
-                return Err(SolverError::BadStep(h));
-            }
+        checked_step(self, h, true, |s| {
             let (n, dt) = s.internal_step(h);
             if n > MAX_INTERNAL_STEPS {
                 let internal = s.step_limit();

@@ -38,8 +38,8 @@ use nalgebra::{DMatrix, DVector, Matrix3};
 
 use super::lu::Lu;
 use super::{
-    FreeScene, Loads, MAX_FRAME_ERROR, PAIRS, frame_error, frame_invalid, frame_omega,
-    omega_rate_from_frame, point_vec, spin_warning,
+    FreeScene, Loads, MAX_FRAME_ERROR, PAIRS, checked_step, frame_error, frame_invalid,
+    frame_omega, omega_rate_from_frame, point_vec, spin_warning,
 };
 use crate::scene::Scene;
 use crate::solver::nodes::check_state;
@@ -100,8 +100,8 @@ pub struct Implicit {
     lag: Vec<f64>,
     /// The nodal loads whose acceleration `held` solves for (preallocated).
     shift: Loads,
-    /// The state before the current step, restored when the step fails (sized at
-    /// build).
+    /// The checkpoint a refused step goes back to, when one was taken (sized at build); a
+    /// step without one puts itself back from `Work::save`.
     rollback: Rollback,
     /// The spin-rate warning was raised (once per solver).
     warned: bool,
@@ -133,7 +133,8 @@ struct Work {
     /// `M_C + bt K_C` of the factored matrix, row-major `nr x nl`.
     arl: Vec<f64>,
     z: Vec<f64>,
-    /// Saved state for a step that has to be split.
+    /// What a step changes, saved before it: a step that has to be split starts again
+    /// from it, a refused one goes back to it.
     save: [DVector<f64>; 5],
     /// The lead `lag` before the step, for the same.
     save_lag: Vec<f64>,
@@ -315,7 +316,9 @@ impl Implicit {
         d.extend_from_slice(&self.lag);
     }
 
-    /// One communication step (no state restore on failure: [`Solver::step`] does it).
+    /// One communication step, all or nothing: the copy a step that has to be split
+    /// starts again from (`save`, what the step changes) also puts a refused step back,
+    /// so the step copies its state once.
     fn run_step(&mut self, h: f64) -> Result<(), SolverError> {
         let t0 = self.t;
         let t_end = t0 + h;
@@ -336,17 +339,19 @@ impl Implicit {
                 }
             }
             if ok {
-                self.jump.fill(0.0);
-                self.t = t_end;
                 let err = frame_error(&self.p);
                 if err > MAX_FRAME_ERROR {
-                    return Err(frame_invalid(
+                    let e = frame_invalid(
                         err,
                         h,
                         self.spin_rate(),
                         crate::solver::FrameAdvice::SmallerSteps,
-                    ));
+                    );
+                    self.restore(t0);
+                    return Err(e);
                 }
+                self.jump.fill(0.0);
+                self.t = t_end;
                 return Ok(());
             }
             self.restore(t0);
@@ -384,34 +389,18 @@ impl Solver for Implicit {
         Method::Implicit
     }
 
-    fn time(&self) -> f64 {
-        self.t
-    }
-
     fn set_loads(&mut self, loads: &[f64]) -> Result<(), SolverError> {
         self.m.check_loads("loads", loads)?;
+        self.rollback.touch();
         self.note_jump(loads);
         self.loads.set(loads, self.t);
         Ok(())
     }
 
-    fn set_load_rates(&mut self, rates: &[f64]) -> Result<(), SolverError> {
-        self.m.check_loads("load rates", rates)?;
-        self.loads.set_rates(rates, self.t);
-        Ok(())
-    }
-
     /// Advance by `h`. The work is bounded ([`MAX_NEWTON_PER_STEP`]); on any error the
-    /// state is as before the call.
+    /// state is as before the call (the step puts itself back: `run_step`).
     fn step(&mut self, h: f64) -> Result<Option<SolverWarning>, SolverError> {
-        // The check runs inside the rollback: a refusal after a checkpoint goes back to
-        // it, whatever refuses the step.
-        Rollback::step(self, true, |s| {
-            if !(h.is_finite() && h > 0.0) {
-                return Err(SolverError::BadStep(h));
-            }
-            s.run_step(h)
-        })?;
+        checked_step(self, h, false, |s| s.run_step(h))?;
         Ok(spin_warning(&self.m, self.spin_rate(), &mut self.warned))
     }
 

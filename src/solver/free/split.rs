@@ -31,8 +31,8 @@ pub(super) mod rigid;
 use nalgebra::{DMatrix, DVector, Matrix3, Matrix6, SMatrix, Vector3, Vector6};
 
 use super::{
-    FreeScene, Loads, MAX_FRAME_ERROR, SINGULAR_RATIO, drag_warning, frame_error, frame_invalid,
-    point_offset, singular_error, spin_warning,
+    FreeScene, Loads, MAX_FRAME_ERROR, SINGULAR_RATIO, checked_step, drag_warning, frame_error,
+    frame_invalid, point_offset, singular_error, spin_warning,
 };
 use crate::scene::Scene;
 use crate::solver::expm::mode_coefficients;
@@ -661,32 +661,16 @@ impl Solver for Split {
         Method::Split
     }
 
-    fn time(&self) -> f64 {
-        self.t
-    }
-
     fn set_loads(&mut self, loads: &[f64]) -> Result<(), SolverError> {
         self.m.check_loads("loads", loads)?;
+        self.rollback.touch();
         self.loads.set(loads, self.t);
         self.refresh()
     }
 
-    fn set_load_rates(&mut self, rates: &[f64]) -> Result<(), SolverError> {
-        self.m.check_loads("load rates", rates)?;
-        self.loads.set_rates(rates, self.t);
-        Ok(())
-    }
-
     /// Advance by `h`; on any error the state is as before the call.
     fn step(&mut self, h: f64) -> Result<Option<SolverWarning>, SolverError> {
-        // The check runs inside the rollback: a refusal after a checkpoint goes back to
-        // it, whatever refuses the step.
-        Rollback::step(self, true, |s| {
-            if !(h.is_finite() && h > 0.0) {
-                return Err(SolverError::BadStep(h));
-            }
-            s.run_step(h)
-        })?;
+        checked_step(self, h, true, |s| s.run_step(h))?;
         if let Some(w) = self.drag_warning.take() {
             return Ok(Some(w));
         }
@@ -694,7 +678,10 @@ impl Solver for Split {
         Ok(spin_warning(&self.m, spin, &mut self.warned))
     }
 
+    /// The caller may change the continuous states through it: the state measured last
+    /// is stale.
     fn continuous(&mut self) -> Option<&mut dyn crate::solver::continuous::Continuous> {
+        self.rollback.touch();
         Some(self)
     }
 

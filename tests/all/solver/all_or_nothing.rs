@@ -141,3 +141,58 @@ fn a_refused_step_leaves_the_state_bit_for_bit() {
         assert_eq!(bits(s.as_ref()), one, "{name}: set_state, refused rewind");
     }
 }
+
+/// The copy [`Solver::state_below`] measures after a step becomes the next checkpoint
+/// when nothing changed the state in between (the two buffers swap): a rewind goes back
+/// to the state at the checkpoint. Any change between the measure and the checkpoint
+/// (loads, rates, a state set, a rewind, the continuous states of Model Exchange) makes
+/// the checkpoint copy the state afresh, so the rewind still goes back to the state at
+/// the checkpoint and not to the one measured.
+#[test]
+fn a_checkpoint_after_a_measure_holds_the_state_of_its_time() {
+    for (name, scene, method, _) in cases() {
+        let n = 6 * scene.nodes.len();
+        let mut s = build(&scene, method, &Options::default()).unwrap();
+        let h = 1e-4;
+        s.set_loads(&loads(n, 2.0)).unwrap();
+        s.step(h).unwrap();
+        let early = s.state();
+        for change in 0..6 {
+            s.step(h).unwrap();
+            assert!(s.state_below(1e300), "{name}: a finite state is below");
+            match change {
+                0 => {}
+                1 => s.set_loads(&loads(n, -3.0 - change as f64)).unwrap(),
+                2 => s.set_load_rates(&loads(n, 1.0)).unwrap(),
+                3 => s.set_state(&early).unwrap(),
+                4 => {
+                    // Measured after the step, then rewound before it.
+                    s.checkpoint();
+                    s.step(h).unwrap();
+                    assert!(s.state_below(1e300));
+                    s.rewind().unwrap();
+                }
+                _ => match s.continuous() {
+                    Some(c) => {
+                        let mut x = vec![0.0; c.state_count()];
+                        c.states(&mut x);
+                        x[0] += 1e-6;
+                        c.set_states(0.5, &x).unwrap();
+                    }
+                    None => continue,
+                },
+            }
+            let at = bits(s.as_ref());
+            s.checkpoint();
+            s.set_loads(&loads(n, 5.0)).unwrap();
+            s.step(h).unwrap();
+            assert_ne!(bits(s.as_ref()), at, "{name}: the step moved nothing");
+            s.rewind().unwrap();
+            assert_eq!(
+                bits(s.as_ref()),
+                at,
+                "{name}: checkpoint after change {change}"
+            );
+        }
+    }
+}
