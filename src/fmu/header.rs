@@ -44,7 +44,7 @@ pub fn macro_prefix(path: &Path) -> Result<String, String> {
         Ok(p)
     } else {
         Err(format!(
-            "--header {}: the header's macros are named after its file name ('{p}_GUID', ...), which must start with a letter",
+            "{}: the header's macros are named after its file name ('{p}_GUID', ...), which must start with a letter",
             path.display()
         ))
     }

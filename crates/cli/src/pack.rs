@@ -166,7 +166,7 @@ pub fn run(args: &PackArgs) -> Result<(), String> {
         Some(h) => {
             refuse_overwrite(h, &[("body file", &args.file)])
                 .map_err(|e| worded(&e, "--header"))?;
-            Some(fxbody::fmu::header::macro_prefix(h)?)
+            Some(fxbody::fmu::header::macro_prefix(h).map_err(|e| format!("--header {e}"))?)
         }
         None => None,
     };

@@ -163,6 +163,11 @@ fn header_macros_are_named_after_the_header_file() {
         &o,
         "named after its file name ('2TIP_GUID', ...), which must start with a letter",
     );
+    // The library names the file; the command names the option.
+    assert_refused(
+        &o,
+        &format!("--header {}: the header's macros", bad.display()),
+    );
     assert!(!d.join("x.fmu").exists() && !bad.exists());
     std::fs::remove_dir_all(&d).ok();
 }
