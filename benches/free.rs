@@ -1,5 +1,5 @@
 //! Cost of a free-body communication step, explicit, implicit and split, on the
-//! free-free fixture, the truss tower (whose modes drag rigid motion) and (when generated
+//! free-free fixture, the truss tower (54 modes, a complete basis) and (when generated
 //! with `python fixtures/generate.py --large`) on the 200-mode, 5151-node `large_free`
 //! body.
 //!
@@ -130,7 +130,8 @@ fn main() {
             let sc = scene(&body, nodes, spin);
             for &(method, factor) in &methods {
                 if spin && method == Method::Explicit {
-                    // The explicit method's step collapses on a spinning truss.
+                    // Not timed spinning: the explicit method's step is not a spinning
+                    // body's (FORMULATION.md, the spin limit), so its cost would say little.
                     continue;
                 }
                 let h = factor * dt_fx;
