@@ -29,7 +29,7 @@
 use nalgebra::{Matrix3, Quaternion, Rotation3, UnitQuaternion, Vector3};
 
 use super::Split;
-use crate::solver::continuous::{Continuous, check_states};
+use crate::solver::continuous::{Continuous, NOMINAL_LOAD, check_states};
 use crate::solver::{BadInput, SolverError};
 
 /// The states before the modal ones: X, q, V, omega.
@@ -164,8 +164,9 @@ impl Continuous for Split {
     /// Read at the current state (the master asks after initialisation): X: the body's
     /// size L; q: 1; V: the larger of the speed, `L |omega|` and `L` per second; omega:
     /// the larger of `|omega|` and 1 rad/s; each mode as the blocked
-    /// exact method does, the static amplitude under the largest unit load on an exposed
-    /// node (`max |S^T Phi_L(n)| / w^2`) and `w` times it for its velocity, a mode no load
+    /// exact method does, the static amplitude under a load of [`NOMINAL_LOAD`] on the
+    /// exposed node and component that moves it most
+    /// (`NOMINAL_LOAD max |S^T Phi_L(n)| / w^2`) and `w` times it for its velocity, a mode no load
     /// reaches (or a zero-frequency one) the largest of the others (L if none).
     fn nominals(&self, out: &mut [f64]) {
         let (nl, m) = (self.m.nl, &self.m);
@@ -187,7 +188,7 @@ impl Continuous for Split {
                     .sum();
                 g = g.max(s.abs());
             }
-            g / (self.c.omega[j] * self.c.omega[j])
+            NOMINAL_LOAD * g / (self.c.omega[j] * self.c.omega[j])
         };
         let ok = |a: f64| a.is_finite() && a > 0.0;
         let fallback = (0..nl).map(amp).filter(|&a| ok(a)).fold(0.0f64, f64::max);
