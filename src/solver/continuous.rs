@@ -53,6 +53,13 @@ pub trait Continuous {
     /// `dx'/dx` (`n x n`) and `dx'/du` (`n x 6m`, loads in the caller's order), column
     /// major, into `a` and `b`; `false` where the method has no exact Jacobian.
     fn jacobian(&self, a: &mut [f64], b: &mut [f64]) -> bool;
+    /// Where [`Continuous::jacobian`] answers `false` and the caller differentiates the
+    /// derivatives numerically: overwrite the rows of `js = J s` (over every state
+    /// derivative) the method knows exactly, for the states `x` and the state direction
+    /// `s` (the loads' direction moves none of them). None by default.
+    fn exact_rows(&self, x: &[f64], s: &[f64], js: &mut [f64]) {
+        let _ = (x, s, js);
+    }
     /// The master completed an integrator step at the current states (FMI
     /// `CompletedIntegratorStep`): the method may put its states back on their manifold
     /// (a free body's attitude quaternion to norm 1). `true` when it changed the states:

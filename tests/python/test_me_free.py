@@ -57,7 +57,7 @@ def test_validate_fmu_passes_for_a_free_body(fmus, fmi, interface):
     assert states[:13] == ([f"state.X[{i}]" for i in (1, 2, 3)] + QUAT
                            + [f"state.V[{i}]" for i in (1, 2, 3)]
                            + [f"state.omega[{i}]" for i in (1, 2, 3)])
-    assert md.modelExchange.providesDirectionalDerivative is False
+    assert md.modelExchange.providesDirectionalDerivative is True
     problems = validate_fmu(fmu)
     assert problems == [], problems
 
