@@ -95,12 +95,19 @@ impl Simulation {
         r
     }
 
-    /// The seed spread over the states and loads (a known named twice adds up).
+    /// The seed spread over the states and loads (a known named twice adds up); a
+    /// non-finite seed is refused.
     fn seed_into(&self, w: &mut Work, knowns: &[u32], seed: &[f64]) -> Result<(), SimulationError> {
         w.sx.fill(0.0);
         w.su.fill(0.0);
         for (&k, &s) in knowns.iter().zip(seed) {
             let var = self.var(k)?;
+            if !s.is_finite() {
+                return Err(SimulationError::NonFinite {
+                    name: format!("the seed of {}", var.name),
+                    value: s,
+                });
+            }
             match var.kind {
                 Kind::State(j) => w.sx[j] += s,
                 Kind::Load { node, comp } => w.su[6 * node + comp] += s,
@@ -176,10 +183,9 @@ impl Simulation {
                 .map(|(s, v)| s.abs() / v)
                 .chain(w.su.iter().map(|s| s.abs() / NOMINAL_LOAD))
                 .fold(0.0f64, f64::max);
-        if !(scale > 0.0 && scale.is_finite()) {
-            // A zero seed (or a non-finite one, which moves everything): J 0 = 0.
-            let v = if scale == 0.0 { 0.0 } else { f64::NAN };
-            w.js.fill(v);
+        if scale == 0.0 {
+            // A zero seed: J 0 = 0.
+            w.js.fill(0.0);
             return Ok(());
         }
         let h = RELATIVE_STEP / scale;

@@ -3,8 +3,9 @@
 //! bit (one model behind both versions) on the tumbling free-free beam, modes moved and
 //! loads on, for a seed over several states and a load at once, and it is the sum of
 //! the single-known columns (the derivative is linear in the seed: within 1e-6 of the
-//! column scale, the central difference's step following the seed). Its accuracy
-//! against an independent Richardson difference: free::me.
+//! column scale, the central difference's step following the seed); a non-finite seed
+//! is refused with a logged reason. Its accuracy against an independent Richardson
+//! difference: free::me.
 
 #![allow(unsafe_code)]
 #![allow(clippy::undocumented_unsafe_blocks)]
@@ -152,4 +153,23 @@ fn fmi3_free_directional_derivative_is_fmi2_s() {
         gap / scale
     );
     assert!(gap < 1e-6 * scale, "{:.2e}", gap / scale);
+    // A non-finite seed: refused, the reason logged.
+    let st = unsafe {
+        fmi2GetDirectionalDerivative(
+            s2.c,
+            unknowns.as_ptr(),
+            n,
+            &fy,
+            1,
+            &f64::NAN,
+            col.as_mut_ptr(),
+        )
+    };
+    assert_eq!(st, fmi2Error);
+    assert!(
+        s2.last_error()
+            .contains("the seed of node_521.fy: value must be finite"),
+        "{}",
+        s2.last_error()
+    );
 }
