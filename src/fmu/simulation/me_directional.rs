@@ -190,11 +190,10 @@ impl Simulation {
         }
         let h = RELATIVE_STEP / scale;
         let loads_seeded = w.su.iter().any(|&s| s != 0.0);
-        let r = self.derivatives_at(w, h, loads_seeded, t).and_then(|()| {
+        let r = self.derivatives_at(w, h, loads_seeded, t).map(|()| {
             for (i, o) in w.js.iter_mut().enumerate() {
                 *o = (w.fp[i] - w.fm[i]) / (2.0 * h);
             }
-            Ok(())
         });
         // Back to the states and loads of the call, whatever happened.
         let Some(s) = self.solver.as_mut() else {

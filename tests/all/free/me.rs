@@ -39,8 +39,13 @@ fn vr(m: &Simulation, kind: Kind) -> u32 {
 
 /// The value references of every exposed node's position (x, y, z per node).
 fn position_vrs(m: &Simulation, nodes: usize) -> Vec<u32> {
+    node_vrs(m, nodes, 3, |node, comp| Kind::Position { node, comp })
+}
+
+/// The value references of `per` variables of each of `nodes` exposed nodes.
+fn node_vrs(m: &Simulation, nodes: usize, per: usize, kind: fn(usize, usize) -> Kind) -> Vec<u32> {
     (0..nodes)
-        .flat_map(|node| (0..3).map(move |comp| Kind::Position { node, comp }))
+        .flat_map(|node| (0..per).map(move |comp| kind(node, comp)))
         .map(|k| vr(m, k))
         .collect()
 }
@@ -412,7 +417,8 @@ fn completed_step_puts_the_quaternion_back_to_unit_norm() {
     );
 }
 
-/// Not provided: the trait answers `false` for a free body (no Jacobian is claimed).
+/// No closed-form Jacobian: the trait answers `false` for a free body (the FMU's
+/// directional derivative differentiates the accelerations numerically, tested below).
 #[test]
 fn the_jacobian_is_not_claimed() {
     let s = moving_beam();
@@ -441,17 +447,7 @@ fn free_directional_derivative_matches_richardson_differences() {
     m.table = m.table.clone().with_states(&scene);
     m.serve_model_exchange();
     m.setup(0.0, None).unwrap();
-    let loads: Vec<u32> = (0..12)
-        .map(|k| {
-            vr(
-                &m,
-                Kind::Load {
-                    node: k / 6,
-                    comp: k % 6,
-                },
-            )
-        })
-        .collect();
+    let loads = node_vrs(&m, 2, 6, |node, comp| Kind::Load { node, comp });
     let u: Vec<f64> = (0..12).map(|k| 0.05 * (1.0 + k as f64).sin()).collect();
     for (&l, &v) in loads.iter().zip(&u) {
         m.set_real(l, v, Phase::Running).unwrap();
