@@ -210,7 +210,8 @@ impl Simulation {
     }
 
     /// `w.fp` and `w.fm`: the derivatives at `x0 + h sx` (loads `+ h su`) and at
-    /// `x0 - h sx`.
+    /// `x0 - h sx` (loads `- h su`). Model Exchange sets no load rates, so the loads
+    /// are values at the current time, as `Simulation::continuous` passes them.
     fn derivatives_at(
         &mut self,
         w: &mut Work,
