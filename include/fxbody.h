@@ -614,7 +614,9 @@ fmi2Status fmi2SetString(fmi2Component c,
 
 /*
  The directional derivative of state derivatives with respect to states and load
- inputs, exact (Model Exchange instances; co-simulation declares
+ inputs: exact for a blocked body, a central difference of a free body's
+ accelerations with its kinematic rows exact (Model Exchange instances; co-simulation
+ declares
  providesDirectionalDerivative="false" and is refused).
 
  # Safety
@@ -955,7 +957,9 @@ fmi3Status fmi3GetOutputDerivatives(fmi3Instance instance,
 
 /*
  The directional derivative of state derivatives with respect to states and load
- inputs, exact (Model Exchange instances; co-simulation declares
+ inputs: exact for a blocked body, a central difference of a free body's
+ accelerations with its kinematic rows exact (Model Exchange instances; co-simulation
+ declares
  providesDirectionalDerivatives="false" and is refused). Every variable is a scalar:
  nSeed is nKnowns and nSensitivity nUnknowns.
 

@@ -146,7 +146,8 @@ pub(crate) fn discrete_update(inst: &mut Instance) -> Result<bool, FmiError> {
 }
 
 /// The body of fmi2GetDirectionalDerivative and fmi3GetDirectionalDerivative (Model
-/// Exchange instances: the exact Jacobian of the state derivatives).
+/// Exchange instances: `J seed` of the state derivatives, exact for a blocked body, a
+/// central difference of a free body's accelerations).
 ///
 /// # Safety
 /// The arrays are NULL (refused for a nonzero length) or hold their lengths' values.

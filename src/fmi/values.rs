@@ -294,7 +294,9 @@ pub unsafe extern "C" fn fmi2SetString(
 }
 
 /// The directional derivative of state derivatives with respect to states and load
-/// inputs, exact (Model Exchange instances; co-simulation declares
+/// inputs: exact for a blocked body, a central difference of a free body's
+/// accelerations with its kinematic rows exact (Model Exchange instances; co-simulation
+/// declares
 /// providesDirectionalDerivative="false" and is refused).
 ///
 /// # Safety

@@ -15,6 +15,7 @@ use crate::scene::io::{ResourceError, Resources, load_resources};
 use crate::solver::{self, Method, Options, Solver, SolverWarning};
 
 mod me;
+mod me_directional;
 mod outputs;
 mod step;
 
@@ -73,6 +74,8 @@ pub struct Simulation {
     /// variables), sized when the first-order form is first asked for.
     xs: Vec<f64>,
     dxs: Vec<f64>,
+    /// The directional derivative's work arrays, sized at its first call.
+    directional: me_directional::Work,
 }
 
 impl Simulation {
@@ -122,6 +125,7 @@ impl Simulation {
             model_exchange: false,
             xs: Vec::new(),
             dxs: Vec::new(),
+            directional: Default::default(),
             scene,
         }
     }

@@ -452,11 +452,11 @@ pub fn model_description(
         let _ = writeln!(
             x,
             "  <ModelExchange modelIdentifier=\"{}\" canGetAndSetFMUstate=\"true\" \
-             canSerializeFMUstate=\"true\" providesDirectionalDerivative=\"{}\" \
+             canSerializeFMUstate=\"true\" providesDirectionalDerivative=\"true\" \
              canNotUseMemoryManagementFunctions=\"true\"/>",
+            // The directional derivative: exact for a blocked body, a central
+            // difference of a free body's accelerations (crate::fmu::simulation).
             escape(&opts.model_identifier()),
-            // A free body's Jacobian is not provided.
-            !table.free
         );
     }
     if opts.interface.co_simulation() {

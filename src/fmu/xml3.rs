@@ -50,12 +50,12 @@ pub fn model_description(
             x,
             "  <ModelExchange modelIdentifier=\"{}\" needsExecutionTool=\"false\" \
              canBeInstantiatedOnlyOncePerProcess=\"false\" canGetAndSetFMUState=\"true\" \
-             canSerializeFMUState=\"true\" providesDirectionalDerivatives=\"{}\" \
+             canSerializeFMUState=\"true\" providesDirectionalDerivatives=\"true\" \
              providesAdjointDerivatives=\"false\" providesPerElementDependencies=\"false\" \
              needsCompletedIntegratorStep=\"true\" providesEvaluateDiscreteStates=\"false\"/>",
+            // The directional derivative: exact for a blocked body, a central
+            // difference of a free body's accelerations (crate::fmu::simulation).
             escape(&opts.model_identifier()),
-            // A free body's Jacobian is not provided.
-            !table.free
         );
     }
     if opts.interface.co_simulation() {

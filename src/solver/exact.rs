@@ -26,7 +26,7 @@
 
 use nalgebra::DVector;
 
-use super::continuous::{Continuous, check_states, modal_acceleration};
+use super::continuous::{Continuous, NOMINAL_LOAD, check_states, modal_acceleration};
 use super::expm::mode_coefficients;
 use super::nodes::{Exposed, LocalCoords, Modes, modal_solver_items};
 use super::rollback::{Restorable, Rollback};
@@ -370,15 +370,16 @@ impl Continuous for Exact {
         }
     }
 
-    /// Per mode, the static amplitude under the largest unit load on an exposed node
-    /// (`max_c |g_jc| / w^2`), and `w` times it for the velocity; a mode no exposed
-    /// load reaches gets the largest amplitude of the others (1 if none has one).
+    /// Per mode, the static amplitude under a load of [`NOMINAL_LOAD`] on the exposed
+    /// node and component that moves it most (`NOMINAL_LOAD max_c |g_jc| / w^2`), and
+    /// `w` times it for the velocity; a mode no exposed load reaches gets the largest
+    /// amplitude of the others (1 if none has one).
     fn nominals(&self, out: &mut [f64]) {
         let nl = self.y.len();
         let gt = &self.io.gt;
         let amp = |j: usize| {
             let g = gt.row(j).iter().fold(0.0f64, |m, v| m.max(v.abs()));
-            g / self.modes.w2[j]
+            NOMINAL_LOAD * g / self.modes.w2[j]
         };
         let fallback = (0..nl)
             .map(amp)

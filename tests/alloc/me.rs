@@ -1,5 +1,7 @@
 //! Issue 26.2: Model Exchange's per-evaluation calls (set time, set states, state
-//! derivatives, a completed integrator step, one position read, a load set) allocate
+//! derivatives, a directional derivative (exact on a blocked body, a central difference
+//! on a free one; its work arrays sized at its first call, made before counting), a
+//! completed integrator step, one position read, a load set) allocate
 //! nothing once the solver is built, on the cantilever and on the truncated cantilever
 //! (whose outputs carry the residual correction's feed-through); the free case uses the
 //! same loop (`free_me.rs`). As a Model Exchange instance runs it: the method parameter
@@ -32,9 +34,7 @@ pub(crate) fn evaluations_do_not_allocate(scenes: [Scene; 2], method: i32) -> us
     for scene in scenes {
         let blocked = scene.body.is_blocked();
         let mut m = Simulation::new(scene.clone(), "alloc-me".into());
-        if blocked {
-            m.table = m.table.clone().with_states(&scene);
-        }
+        m.table = m.table.clone().with_states(&scene);
         m.serve_model_exchange();
         let vr = |m: &Simulation, k: Kind| m.table.vars.iter().find(|v| v.kind == k).unwrap().vr;
         let method_vr = m.table.vars.iter().find(|v| v.name == "method").unwrap().vr;
@@ -57,6 +57,13 @@ pub(crate) fn evaluations_do_not_allocate(scenes: [Scene; 2], method: i32) -> us
         m.states(&mut x).unwrap();
         let start = x.clone();
         let mut o = vec![0.0; reads.len()];
+        // The directional derivative: every state derivative with respect to the first
+        // and last states and the load.
+        let ders: Vec<u32> = (0..n).map(|i| vr(&m, Kind::Derivative(i))).collect();
+        let knowns = [vr(&m, Kind::State(0)), vr(&m, Kind::State(n - 1)), fy];
+        let mut jd = vec![0.0; n];
+        m.directional_derivative(&ders, &knowns, &[1.0, 0.5, 0.2], &mut jd)
+            .unwrap();
         let before = alloc_counter::allocations();
         let mut moved = 0.0f64;
         for k in 0..300 {
@@ -65,6 +72,8 @@ pub(crate) fn evaluations_do_not_allocate(scenes: [Scene; 2], method: i32) -> us
             m.set_time(t).unwrap();
             m.set_states(&x).unwrap();
             m.derivatives(&mut dx).unwrap();
+            m.directional_derivative(&ders, &knowns, &[1.0, 0.5, 0.2], &mut jd)
+                .unwrap();
             m.get_reals(&reads, &mut o).unwrap();
             if blocked {
                 assert_eq!((o[1], o[2]), (x[0], dx[n - 1]));

@@ -5,14 +5,17 @@ by hand through FMU2Slave, the load held over each step) on the cantilever's tip
 a step and a pulse of load, sampled at every communication point.
 
 Reference: the co-simulation exact method (closed-form modal stepping, no
-time-discretisation error), a second integration of the same equations. Tolerances:
-1e-6 of the peak displacement. CVode at rtol 1e-8 meets it on the step (3.2e-7
-measured); on the pulse, whose peak is 14 times smaller than the step's, it gives
-5.8e-6 at rtol 1e-8, 1.5e-6 at 1e-9 and 5.8e-8 at 1e-10 (CVode's own error: it falls
-with the tolerance), so the pulse is held to 1e-6 at rtol 1e-10 and to 1e-5 at rtol
-1e-8. With mode truncation (--fmax 1000: 14 modes kept, 6 as the residual correction)
-the positions carry the loads' feed-through, read through the co-simulation output
-code: 6.9e-10 (step) and 8.8e-9 (pulse) of the peak at rtol 1e-10. A free body's Model
+time-discretisation error), a second integration of the same equations. Tolerance:
+1e-6 of the peak displacement at rtol 1e-8, the tolerance docs/MASTERS.md tells users
+to pick. fmpy's CVode takes its absolute tolerance from the state nominals (atol = rtol x
+nominal, re-read at each event), so the nominals decide whether CVode controls a mode's
+error relatively: the pulse's peak is 14 times smaller than the step's, and with
+nominals set to the static amplitude under a whole unit load (8e-4 on the mode that
+carries the tip, which the pulse moves by 7.3e-5) the pulse was 5.8e-6 off at rtol 1e-8;
+with a tenth of a unit load (solver::continuous::NOMINAL_LOAD) it is 2.8e-7, the step
+1.8e-8. Nominals of 1 give 5.4e-4 (the seeded defect). With mode truncation (--fmax
+1000: 14 modes kept, 6 as the residual correction) the positions carry the loads'
+feed-through, read through the co-simulation output code. A free body's Model
 Exchange is tested in test_me_free.py."""
 
 
@@ -101,12 +104,8 @@ def me_cvode(fmu, pulse, rtol):
 
 
 @pytest.mark.parametrize("fmi", ["2", "3"])
-@pytest.mark.parametrize("load, rtol, tol", [
-    ("step", 1e-8, 1e-6),
-    ("pulse", 1e-10, 1e-6),
-    ("pulse", 1e-8, 1e-5),
-])
-def test_cvode_reproduces_the_exact_method(fmus, fmi, load, rtol, tol):
+@pytest.mark.parametrize("load", ["step", "pulse"])
+def test_cvode_reproduces_the_exact_method(fmus, fmi, load, rtol=1e-8, tol=1e-6):
     pulse = load == "pulse"
     ref = cs_exact(fmus["cs"], pulse)
     y = me_cvode(fmus[(fmi, "me")], pulse, rtol)
@@ -123,10 +122,10 @@ def test_cvode_reproduces_the_exact_method_with_the_residual_feed_through(fmus, 
     R f, read in Model Exchange through the co-simulation output code."""
     pulse = load == "pulse"
     ref = cs_exact(fmus["fmax"], pulse)
-    y = me_cvode(fmus["fmax"], pulse, 1e-10)
+    y = me_cvode(fmus["fmax"], pulse, 1e-8)
     peak = np.max(np.abs(ref - ref[0]))
     gap = np.max(np.abs(y - ref)) / peak
-    print(f"--fmax 1000 {load}, CVode rtol 1e-10: gap {gap:.2e} of the peak {peak:.3e}")
+    print(f"--fmax 1000 {load}, CVode rtol 1e-8: gap {gap:.2e} of the peak {peak:.3e}")
     assert gap < 1e-6, f"{load}: Model Exchange off the exact method by {gap:.2e} of the peak"
 
 

@@ -199,7 +199,9 @@ pub unsafe extern "C" fn fmi3GetOutputDerivatives(
 }
 
 /// The directional derivative of state derivatives with respect to states and load
-/// inputs, exact (Model Exchange instances; co-simulation declares
+/// inputs: exact for a blocked body, a central difference of a free body's
+/// accelerations with its kinematic rows exact (Model Exchange instances; co-simulation
+/// declares
 /// providesDirectionalDerivatives="false" and is refused). Every variable is a scalar:
 /// nSeed is nKnowns and nSensitivity nUnknowns.
 ///

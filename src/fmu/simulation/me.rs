@@ -43,7 +43,7 @@ impl Simulation {
     }
 
     /// The method's first-order form, the solver built and the loads passed on first.
-    fn continuous(&mut self) -> Result<&mut dyn Continuous, SimulationError> {
+    pub(super) fn continuous(&mut self) -> Result<&mut dyn Continuous, SimulationError> {
         self.ensure_solver()?;
         let method = self.method;
         let Some(s) = self.solver.as_mut() else {
@@ -179,7 +179,7 @@ impl Simulation {
     }
 }
 
-fn check_len(found: usize, expected: usize) -> Result<(), SimulationError> {
+pub(super) fn check_len(found: usize, expected: usize) -> Result<(), SimulationError> {
     if found == expected {
         Ok(())
     } else {
@@ -189,78 +189,5 @@ fn check_len(found: usize, expected: usize) -> Result<(), SimulationError> {
             found,
         }
         .into())
-    }
-}
-
-impl Simulation {
-    /// The directional derivative `out = J seed` of the `unknowns` (state derivative or
-    /// state variables) with respect to the `knowns` (state variables and load inputs),
-    /// from the exact Jacobian (fmi2GetDirectionalDerivative). Outputs as unknowns are
-    /// refused: their derivatives are not provided yet.
-    pub fn directional_derivative(
-        &mut self,
-        unknowns: &[u32],
-        knowns: &[u32],
-        seed: &[f64],
-        out: &mut [f64],
-    ) -> Result<(), SimulationError> {
-        check_len(seed.len(), knowns.len())?;
-        check_len(out.len(), unknowns.len())?;
-        let n = self.state_count()?;
-        let m = self.loads.len();
-        // Which column of [A B] each known is.
-        let mut cols = Vec::with_capacity(knowns.len());
-        for &k in knowns {
-            let var = self.var(k)?;
-            cols.push(match var.kind {
-                Kind::State(j) => j,
-                Kind::Load { node, comp } => n + 6 * node + comp,
-                _ => {
-                    return Err(SimulationError::NotAKnown {
-                        name: var.name.clone(),
-                    });
-                }
-            });
-        }
-        let mut rows = Vec::with_capacity(unknowns.len());
-        for &u in unknowns {
-            let var = self.var(u)?;
-            rows.push(match var.kind {
-                Kind::Derivative(i) => Ok(i),
-                Kind::State(i) => Err(i),
-                _ => {
-                    return Err(SimulationError::NotAnUnknown {
-                        name: var.name.clone(),
-                    });
-                }
-            });
-        }
-        let (mut a, mut b) = (vec![0.0; n * n], vec![0.0; n * m]);
-        if !self.jacobian(&mut a, &mut b)? {
-            return Err(SimulationError::Solver(SolverError::Unsupported {
-                method: self.solver_method(),
-                why: crate::solver::Unsupported::NoJacobian,
-            }));
-        }
-        for (o, row) in out.iter_mut().zip(&rows) {
-            *o = cols
-                .iter()
-                .zip(seed)
-                .map(|(&c, &s)| match *row {
-                    // d der(x_i) / d x_c or d u_c: A (n x n) then B, column major.
-                    Ok(i) if c < n => a[c * n + i] * s,
-                    Ok(i) => b[(c - n) * n + i] * s,
-                    // d x_i / d x_c: the identity; no state depends on an input.
-                    Err(i) => {
-                        if c == i {
-                            s
-                        } else {
-                            0.0
-                        }
-                    }
-                })
-                .sum();
-        }
-        Ok(())
     }
 }

@@ -24,12 +24,14 @@
 //! [`NORM_TOLERANCE`] ([`Continuous::completed_step`]).
 //!
 //! With Irot = 1 the rotational DOFs (the integral of omega) are not states: no output
-//! reads them. The Jacobian is not provided ([`Continuous::jacobian`] answers `false`).
+//! reads them. No closed-form Jacobian ([`Continuous::jacobian`] answers `false`): the
+//! FMU's directional derivative is a central difference of the accelerations with the
+//! kinematic rows exact ([`Continuous::exact_rows`]).
 
 use nalgebra::{Matrix3, Quaternion, Rotation3, UnitQuaternion, Vector3};
 
 use super::Split;
-use crate::solver::continuous::{Continuous, check_states};
+use crate::solver::continuous::{Continuous, NOMINAL_LOAD, check_states};
 use crate::solver::{BadInput, SolverError};
 
 /// The states before the modal ones: X, q, V, omega.
@@ -164,8 +166,9 @@ impl Continuous for Split {
     /// Read at the current state (the master asks after initialisation): X: the body's
     /// size L; q: 1; V: the larger of the speed, `L |omega|` and `L` per second; omega:
     /// the larger of `|omega|` and 1 rad/s; each mode as the blocked
-    /// exact method does, the static amplitude under the largest unit load on an exposed
-    /// node (`max |S^T Phi_L(n)| / w^2`) and `w` times it for its velocity, a mode no load
+    /// exact method does, the static amplitude under a load of [`NOMINAL_LOAD`] on the
+    /// exposed node and component that moves it most
+    /// (`NOMINAL_LOAD max |S^T Phi_L(n)| / w^2`) and `w` times it for its velocity, a mode no load
     /// reaches (or a zero-frequency one) the largest of the others (L if none).
     fn nominals(&self, out: &mut [f64]) {
         let (nl, m) = (self.m.nl, &self.m);
@@ -187,7 +190,7 @@ impl Continuous for Split {
                     .sum();
                 g = g.max(s.abs());
             }
-            g / (self.c.omega[j] * self.c.omega[j])
+            NOMINAL_LOAD * g / (self.c.omega[j] * self.c.omega[j])
         };
         let ok = |a: f64| a.is_finite() && a > 0.0;
         let fallback = (0..nl).map(amp).filter(|&a| ok(a)).fold(0.0f64, f64::max);
@@ -205,9 +208,28 @@ impl Continuous for Split {
     }
 
     /// Not provided: the frame's equations are nonlinear in the attitude and the
-    /// angular velocity, and no exact Jacobian is written yet.
+    /// angular velocity, and no closed-form Jacobian is written; the FMU's directional
+    /// derivative differentiates the accelerations numerically and takes the kinematic
+    /// rows from [`Continuous::exact_rows`].
     fn jacobian(&self, _a: &mut [f64], _b: &mut [f64]) -> bool {
         false
+    }
+
+    /// The kinematic rows, linear or bilinear in the states: `X' = V` (`dV`), the
+    /// quaternion rate `1/2 (0, omega) * q` (`1/2 [(0, d omega) * q + (0, omega) * dq]`)
+    /// and `y' = y'` (`dy'`).
+    fn exact_rows(&self, x: &[f64], s: &[f64], js: &mut [f64]) {
+        let nl = self.m.nl;
+        js[0..3].copy_from_slice(&s[7..10]);
+        let (q, dq) = (state_quaternion(x), state_quaternion(s));
+        let omega = Vector3::new(x[10], x[11], x[12]);
+        let domega = Vector3::new(s[10], s[11], s[12]);
+        let a = quaternion_rate(&q, &domega);
+        let b = quaternion_rate(&dq, &omega);
+        for k in 0..4 {
+            js[3 + k] = a[k] + b[k];
+        }
+        js[13..13 + nl].copy_from_slice(&s[13 + nl..13 + 2 * nl]);
     }
 
     /// Normalise the quaternion once its norm has drifted past [`NORM_TOLERANCE`];

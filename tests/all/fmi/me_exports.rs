@@ -553,15 +553,15 @@ fn declared_states(xml: &str) -> Vec<String> {
 /// A free body's Model Exchange instance (issue 26.2-26.3), the free-free beam with its
 /// tip exposed: the instance's state count and the state names are the description's
 /// (13 frame states, then the 10 modes' amplitudes and velocities);
-/// fmi2GetDirectionalDerivative is refused with a logged reason naming
-/// providesDirectionalDerivative (declared false), the model unchanged; a quaternion
+/// fmi2GetDirectionalDerivative answers (declared true; its accuracy is tested in
+/// free::me and fmi::me_free), the model's serialised state unchanged; a quaternion
 /// 1e-6 off unit norm makes fmi2CompletedIntegratorStep ask for an event without
 /// touching the states (FMI changes continuous states in Event Mode only), and
 /// fmi2NewDiscreteStates normalises it (to 1e-15) and reports
 /// valuesOfContinuousStatesChanged, every other state kept; a unit quaternion asks for
 /// nothing.
 #[test]
-fn a_free_body_declares_its_states_refuses_the_jacobian_and_normalises_at_events() {
+fn a_free_body_declares_its_states_and_jacobian_and_normalises_at_events() {
     let fx = packed_with(
         "me_free",
         "freefree",
@@ -579,7 +579,7 @@ fn a_free_body_declares_its_states_refuses_the_jacobian_and_normalises_at_events
     expected.extend((1..=10).map(|j| format!("modal.q[{j}]")));
     expected.extend((1..=10).map(|j| format!("modal.qd[{j}]")));
     assert_eq!(declared, expected);
-    assert!(xml.contains("providesDirectionalDerivative=\"false\""));
+    assert!(xml.contains("providesDirectionalDerivative=\"true\""));
     let n = declared.len();
     assert_eq!(fx.p.table.state_count(), n);
 
@@ -597,22 +597,19 @@ fn a_free_body_declares_its_states_refuses_the_jacobian_and_normalises_at_events
         &x[3..7]
     );
 
-    // The Jacobian: refused, logged, nothing changed.
-    let der = refs(&fx, |k| k == Kind::Derivative(7));
-    let state = refs(&fx, |k| k == Kind::State(3));
+    // The Jacobian: d der(q_w) / d omega_x = -q_x / 2, the model unchanged.
+    let der = refs(&fx, |k| k == Kind::Derivative(3));
+    let state = refs(&fx, |k| k == Kind::State(10));
+    unsafe { assert_eq!(fmi2SetContinuousStates(s.c, x.as_ptr(), n), fmi2OK) };
     let before = s.fingerprint();
     let mut v = 0.0;
     let st = unsafe {
         fmi2GetDirectionalDerivative(s.c, der.as_ptr(), 1, state.as_ptr(), 1, &1.0, &mut v)
     };
-    assert_eq!(st, fmi2Error);
-    let why = s.last_error();
-    assert!(why.contains("providesDirectionalDerivative false"), "{why}");
+    assert_eq!(st, fmi2OK, "{}", s.last_error());
+    assert_eq!(v, -0.5 * x[4]);
     assert_eq!(s.fingerprint(), before);
 
-    // A fresh instance for the event: the refusal left the first in the Error state.
-    drop(s);
-    let s = in_continuous_time(&fx);
     let (mut enter, mut term) = (fmi2True, fmi2True);
     unsafe {
         assert_eq!(

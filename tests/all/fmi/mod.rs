@@ -11,6 +11,7 @@ mod header;
 mod host_abi;
 mod me;
 mod me_exports;
+mod me_free;
 mod method_param;
 mod model_description;
 mod nonfinite;

@@ -39,8 +39,13 @@ fn vr(m: &Simulation, kind: Kind) -> u32 {
 
 /// The value references of every exposed node's position (x, y, z per node).
 fn position_vrs(m: &Simulation, nodes: usize) -> Vec<u32> {
+    node_vrs(m, nodes, 3, |node, comp| Kind::Position { node, comp })
+}
+
+/// The value references of `per` variables of each of `nodes` exposed nodes.
+fn node_vrs(m: &Simulation, nodes: usize, per: usize, kind: fn(usize, usize) -> Kind) -> Vec<u32> {
     (0..nodes)
-        .flat_map(|node| (0..3).map(move |comp| Kind::Position { node, comp }))
+        .flat_map(|node| (0..per).map(move |comp| kind(node, comp)))
         .map(|k| vr(m, k))
         .collect()
 }
@@ -412,13 +417,134 @@ fn completed_step_puts_the_quaternion_back_to_unit_norm() {
     );
 }
 
-/// Not provided: the trait answers `false` for a free body (no Jacobian is claimed).
+/// No closed-form Jacobian: the trait answers `false` for a free body (the FMU's
+/// directional derivative differentiates the accelerations numerically, tested below).
 #[test]
 fn the_jacobian_is_not_claimed() {
     let s = moving_beam();
     let n = s.state_count();
     let (mut a, mut b) = (vec![0.0; n * n], vec![0.0; n * 12]);
     assert!(!s.jacobian(&mut a, &mut b));
+}
+
+/// Issue 26.2: a free body's directional derivative (the model-layer call behind
+/// fmi2/fmi3GetDirectionalDerivative: a central difference along the seed with the
+/// kinematic rows exact) on the tumbling beam, spinning at (3, -1, 2) rad/s, deformed by
+/// 30 split steps under tip loads and its modes moved by up to half their nominals,
+/// loads on: every column (each state and each load as the known, every state
+/// derivative as the unknowns) against an independent Richardson extrapolation of
+/// central differences of the derivatives (steps 1e-3 and 5e-4 of the known's nominal,
+/// 100 times the FMU's: error O(h^4)). Entry (i, j) is scaled by the known's nominal
+/// over row i's largest scaled entry; the worst scaled gap is held to 1e-7 (measured:
+/// printed, with the reference's own two-step spread). The kinematic rows are exact:
+/// `d der(X) / d V` is the identity bit for bit.
+#[test]
+fn free_directional_derivative_matches_richardson_differences() {
+    let mut scene = beam();
+    scene.v0 = [0.1, -0.2, 0.05];
+    scene.w0 = [3.0, -1.0, 2.0];
+    let mut m = Simulation::new(scene.clone(), "me-free-jacobian".into());
+    m.table = m.table.clone().with_states(&scene);
+    m.serve_model_exchange();
+    m.setup(0.0, None).unwrap();
+    let loads = node_vrs(&m, 2, 6, |node, comp| Kind::Load { node, comp });
+    let u: Vec<f64> = (0..12).map(|k| 0.05 * (1.0 + k as f64).sin()).collect();
+    for (&l, &v) in loads.iter().zip(&u) {
+        m.set_real(l, v, Phase::Running).unwrap();
+    }
+    for i in 0..30 {
+        m.do_step(i as f64 * 1e-4, 1e-4).unwrap();
+    }
+    let n = m.state_count().unwrap();
+    let nl = (n - RIGID_STATES) / 2;
+    let (mut x, mut nom) = (vec![0.0; n], vec![0.0; n]);
+    m.states(&mut x).unwrap();
+    m.nominals(&mut nom).unwrap();
+    for j in RIGID_STATES..n {
+        x[j] += 0.5 * nom[j] * (0.7 * j as f64).sin();
+    }
+    m.set_time(30.0 * 1e-4).unwrap();
+    m.set_states(&x).unwrap();
+    let ders: Vec<u32> = (0..n).map(|i| vr(&m, Kind::Derivative(i))).collect();
+    let knowns: Vec<(u32, f64)> = (0..n)
+        .map(|j| (vr(&m, Kind::State(j)), nom[j]))
+        .chain(loads.iter().map(|&l| (l, 0.1)))
+        .collect();
+    let cols = knowns.len();
+    let (mut jac, mut reference, mut spread) = (
+        vec![0.0; n * cols],
+        vec![0.0; n * cols],
+        vec![0.0; n * cols],
+    );
+    let (mut fp, mut fm) = (vec![0.0; n], vec![0.0; n]);
+    for (c, &(known, scale)) in knowns.iter().enumerate() {
+        let col = &mut jac[c * n..(c + 1) * n];
+        m.directional_derivative(&ders, &[known], &[1.0], col)
+            .unwrap();
+        // The reference: central differences of the derivatives at two steps.
+        let mut d = |h: f64, out: &mut [f64]| {
+            for (sign, f) in [(1.0, &mut fp), (-1.0, &mut fm)] {
+                let mut xs = x.clone();
+                if c < n {
+                    xs[c] += sign * h;
+                } else {
+                    m.set_real(known, u[c - n] + sign * h, Phase::Running)
+                        .unwrap();
+                }
+                m.set_states(&xs).unwrap();
+                m.derivatives(f).unwrap();
+            }
+            if c >= n {
+                m.set_real(known, u[c - n], Phase::Running).unwrap();
+            }
+            for i in 0..n {
+                out[i] = (fp[i] - fm[i]) / (2.0 * h);
+            }
+        };
+        let (mut d1, mut d2) = (vec![0.0; n], vec![0.0; n]);
+        d(1e-3 * scale, &mut d1);
+        d(5e-4 * scale, &mut d2);
+        m.set_states(&x).unwrap();
+        for i in 0..n {
+            reference[c * n + i] = (4.0 * d2[i] - d1[i]) / 3.0;
+            spread[c * n + i] = (d2[i] - d1[i]).abs();
+        }
+    }
+    let scale = |c: usize| knowns[c].1;
+    let (mut worst, mut worst_spread, mut at) = (0.0f64, 0.0f64, (0, 0));
+    for i in 0..n {
+        let row = (0..cols)
+            .map(|c| reference[c * n + i].abs() * scale(c))
+            .fold(0.0f64, f64::max);
+        if row == 0.0 {
+            continue;
+        }
+        for c in 0..cols {
+            let g = (jac[c * n + i] - reference[c * n + i]).abs() * scale(c) / row;
+            if g > worst {
+                (worst, at) = (g, (i, c));
+            }
+            worst_spread = worst_spread.max(spread[c * n + i] * scale(c) / row);
+        }
+    }
+    println!(
+        "free directional derivative vs Richardson differences: worst {worst:.2e} \
+         (row-scaled; der {} wrt known {}), the reference's two steps differ by \
+         {worst_spread:.2e}",
+        at.0, at.1
+    );
+    assert!(worst < 1e-7, "{worst:.2e} at {at:?}");
+    // d der(X_k) / d V_l = delta_kl exactly; d der(q_j) / d qd_j = 1.
+    for k in 0..3 {
+        for l in 0..3 {
+            assert_eq!(jac[(7 + l) * n + k], f64::from(u8::from(k == l)));
+        }
+    }
+    assert_eq!(jac[(RIGID_STATES + nl) * n + RIGID_STATES], 1.0);
+    // The model is back at the states of the call.
+    let mut back = vec![0.0; n];
+    m.states(&mut back).unwrap();
+    assert_eq!(back, x);
 }
 
 /// A free body on the implicit (2) or explicit (1) method has no first-order form:
