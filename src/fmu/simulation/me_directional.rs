@@ -12,7 +12,9 @@
 //! [`crate::solver::continuous::NOMINAL_LOAD`]); the kinematic rows (`X' = V`, the
 //! quaternion rate, `y' = y'`) are exact
 //! ([`crate::solver::continuous::Continuous::exact_rows`]). The states and loads are set
-//! back afterwards as fmi2SetContinuousStates would set the states read before the call.
+//! back afterwards as fmi2SetContinuousStates would set the states read before the call
+//! (so a call made before the master has set any states may move the frame in its last
+//! bits: the frame is then rebuilt from the states, as after a set).
 //! After the first call nothing allocates.
 
 use super::me::check_len;
@@ -23,7 +25,8 @@ use crate::solver::continuous::NOMINAL_LOAD;
 /// The central difference's step, relative to the seeded states' nominals: near the
 /// cube root of the machine epsilon, where the difference's truncation error (`h^2`) and
 /// its rounding (`eps / h`) balance. Measured on the tumbling free-free beam against a
-/// Richardson-extrapolated difference: tests/all/free/me_directional.rs.
+/// Richardson-extrapolated difference (`free::me::free_directional_derivative_matches_richardson_differences`
+/// in tests/all/free/me.rs).
 pub const RELATIVE_STEP: f64 = 1e-5;
 
 /// Work arrays, sized at the first call.
