@@ -69,10 +69,18 @@ pub fn parse(text: Option<&str>, path: &Path) -> Result<Vec<MePoint>, String> {
     Ok(out)
 }
 
-/// The scene's curve (CPU per simulated second, error), tolerances loosest first; `None`
-/// when `me.csv` has no point for it.
+/// Above this error (relative to the peak) a run has diverged: the chart leaves it out,
+/// so that one diverged point (CVode at a loose tolerance on an undamped body reaches
+/// 6e9) does not stretch its panel's error axis; the table lists it.
+pub const DIVERGED: f64 = 1.0;
+
+/// The scene's curve (CPU per simulated second, error), tolerances loosest first, the
+/// diverged runs left out; `None` when `me.csv` has no point for it.
 pub fn curve(points: &[MePoint], scene: &str) -> Option<Curve> {
-    let mut pts: Vec<&MePoint> = points.iter().filter(|p| p.scene == scene).collect();
+    let mut pts: Vec<&MePoint> = points
+        .iter()
+        .filter(|p| p.scene == scene && !(p.error > DIVERGED))
+        .collect();
     if pts.is_empty() {
         return None;
     }
@@ -91,10 +99,15 @@ pub fn table(points: &[MePoint]) -> String {
         "| scene | CVode rtol | error / peak | CPU s / sim. s | note |\n|---|---|---|---|---|\n",
     );
     for p in points {
+        let note = if p.error > DIVERGED {
+            "diverged (not drawn)"
+        } else {
+            p.note.as_str()
+        };
         let _ = writeln!(
             md,
-            "| {} | {:.0e} | {:.2e} | {:.2e} | {} |",
-            p.scene, p.rtol, p.error, p.cpu_per_s, p.note
+            "| {} | {:.0e} | {:.2e} | {:.2e} | {note} |",
+            p.scene, p.rtol, p.error, p.cpu_per_s
         );
     }
     md
@@ -107,19 +120,30 @@ mod tests {
     const CSV: &str = "scene,rtol,error_rel_peak,cpu_s_per_sim_s,outputs,compared_samples,note\n\
         cantilever step,1e-07,6.854e-04,1.55,2245,2245,\n\
         cantilever step,1e-04,2.338,1.5,2245,2245,\n\
+        cantilever step,1e-03,0.5,1.4,2245,2245,\n\
         truss pulse,1e-10,NaN,NaN,0,0,CVode gave up\n";
 
     /// Rows read as written; a scene's curve runs from the loosest tolerance to the
-    /// tightest; a failed run keeps its note.
+    /// tightest, a diverged run (error 2.338 of the peak) left out of it and marked in the
+    /// table; a failed run keeps its note.
     #[test]
     fn reads_points_into_one_curve_per_scene() {
         let p = parse(Some(CSV), Path::new("me.csv")).unwrap();
-        assert_eq!(p.len(), 3);
+        assert_eq!(p.len(), 4);
         assert_eq!(p[0].rtol, 1e-7);
         assert_eq!(p[0].error, 6.854e-4);
-        assert!(p[2].error.is_nan() && p[2].note == "CVode gave up");
+        assert!(p[3].error.is_nan() && p[3].note == "CVode gave up");
         let c = curve(&p, "cantilever step").unwrap();
-        assert_eq!(c.points, vec![(1.5, 2.338), (1.55, 6.854e-4)]);
+        assert_eq!(c.points, vec![(1.4, 0.5), (1.55, 6.854e-4)]);
+        let t = table(&p);
+        assert!(
+            t.contains("| cantilever step | 1e-4 | 2.34e0 | 1.50e0 | diverged (not drawn) |"),
+            "{t}"
+        );
+        assert!(
+            t.contains("| truss pulse | 1e-10 | NaN | NaN | CVode gave up |"),
+            "{t}"
+        );
         assert_eq!(c.label, LABEL);
         assert!(curve(&p, "free tumble").is_none());
         assert!(parse(None, Path::new("me.csv")).unwrap().is_empty());
