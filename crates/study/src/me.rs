@@ -79,7 +79,7 @@ pub const DIVERGED: f64 = 1.0;
 pub fn curve(points: &[MePoint], scene: &str) -> Option<Curve> {
     let mut pts: Vec<&MePoint> = points
         .iter()
-        .filter(|p| p.scene == scene && !(p.error > DIVERGED))
+        .filter(|p| p.scene == scene && (p.error <= DIVERGED || p.error.is_nan()))
         .collect();
     if pts.is_empty() {
         return None;
