@@ -14,6 +14,7 @@
 #include <time.h>
 
 #include "fxbody.h"
+#include "driver.h"
 
 static const char *NAMES[34] = {
     "fmi2GetTypesPlatform", "fmi2GetVersion", "fmi2SetDebugLogging", "fmi2Instantiate",
@@ -39,16 +40,6 @@ static void logger(fmi2ComponentEnvironment env, fmi2String name, fmi2Status sta
     va_end(ap);
     fputc('\n', stderr);
 }
-
-/* The pointer types come from the header's own declarations, so the driver checks the
- * header against the library. */
-#define LOAD(var, fn)                                                      \
-    __typeof__(fn) *var = (__typeof__(fn) *)dlsym(lib, #fn);               \
-    if (!var) { fprintf(stderr, "missing %s\n", #fn); return 2; }
-
-#define CHECK(call)                                                        \
-    do { fmi2Status s_ = (call); if (s_ != fmi2OK) {                       \
-        fprintf(stderr, "%s failed with %d\n", #call, s_); return 3; } } while (0)
 
 int main(int argc, char **argv) {
     if (argc < 9) { fprintf(stderr, "usage: %s LIB URI GUID VR_IN VR_OUT STEPS H FORCE [bench]\n", argv[0]); return 1; }

@@ -11,6 +11,7 @@
 #include <stdlib.h>
 
 #include "fxbody.h"
+#include "driver.h"
 
 static void logger(fmi2ComponentEnvironment env, fmi2String name, fmi2Status status,
                    fmi2String category, fmi2String message, ...) {
@@ -23,14 +24,6 @@ static void logger(fmi2ComponentEnvironment env, fmi2String name, fmi2Status sta
     va_end(ap);
     fputc('\n', stderr);
 }
-
-#define LOAD(var, fn)                                                      \
-    __typeof__(fn) *var = (__typeof__(fn) *)dlsym(lib, #fn);               \
-    if (!var) { fprintf(stderr, "missing %s\n", #fn); return 2; }
-
-#define CHECK(call)                                                        \
-    do { fmi2Status s_ = (call); if (s_ != fmi2OK) {                       \
-        fprintf(stderr, "%s failed with %d\n", #call, s_); return 3; } } while (0)
 
 int main(int argc, char **argv) {
     if (argc < 6) { fprintf(stderr, "usage: %s LIB URI STEPS H FORCE\n", argv[0]); return 1; }

@@ -4,11 +4,13 @@
 //! multiple of dt_fx, sweeps the mode count of the cantilever (truncation with residual
 //! flexibility), and times the dense products a step cannot avoid. Writes `study.csv`,
 //! `modes.csv`, `stability.csv`, `bound.csv`, `study.svg` and `study_results.md` to the
-//! output folder; peer results (`peers.csv`, written by `study/peers.py`) are added to
-//! the chart and the tables when present.
+//! output folder; peer results (`peers.csv`, written by `study/peers.py`) and the Model
+//! Exchange + CVode points (`me.csv`, written by `study/me.py`) are added to the chart
+//! and the tables when present.
 
 mod accept;
 mod bound;
+mod me;
 mod modes;
 mod run;
 mod scenes;
@@ -466,8 +468,11 @@ pub fn run(args: &StudyArgs) -> Result<(), String> {
     }
     write(&args.out.join("bound.csv"), &bcsv)?;
 
-    // Peers (written beforehand by study/peers.py, same body, scene and step).
+    // Peers (written beforehand by study/peers.py, same body, scene and step), and the
+    // Model Exchange points (study/me.py, same scenes and error measure).
     let peers = read_peers(&args.out.join("peers.csv"))?;
+    let me_csv = args.out.join("me.csv");
+    let me_points = me::parse(read_optional(&me_csv)?.as_deref(), &me_csv)?;
     let mut pmd = String::new();
     if !peers.is_empty() {
         pmd.push_str("| peer | scene | h (s) | peer error | peer ns/step | ours | our error | our ns/step | peer / ours (time) |\n|---|---|---|---|---|---|---|---|---|\n");
@@ -535,6 +540,7 @@ pub fn run(args: &StudyArgs) -> Result<(), String> {
                 });
             }
         }
+        curves.extend(me::curve(&me_points, &case.name));
         let fe = case
             .reference
             .as_ref()
@@ -603,6 +609,10 @@ pub fn run(args: &StudyArgs) -> Result<(), String> {
     if !pmd.is_empty() {
         md.push_str("\n## Peers\n\n");
         md.push_str(&pmd);
+    }
+    if !me_points.is_empty() {
+        md.push_str("\n## Model Exchange + CVode (fmpy, study/me.py)\n\n");
+        md.push_str(&me::table(&me_points));
     }
     md.push_str(
         "\n## Error and CPU time per point\n\nSee `study.csv` (all points) and `study.svg`.\n",

@@ -12,7 +12,9 @@
 //!   flexibility added) stays within 0.5% of the full FE step response with the exact
 //!   method (recomputed here too), and the error does not grow as modes are added (it is
 //!   checked against the full FE model, not against our own untruncated run);
-//! - the chart has one panel per scene;
+//! - the chart has one panel per scene, and the Model Exchange points of a `me.csv`
+//!   written into the output folder beforehand (as `study/me.py` does) are drawn on
+//!   their scenes' panels, with their legend entry and their table;
 //! - the stability maps are data: no failure word on stderr, every point without a
 //!   result says "unstable (why)" or "refused (why)" in the `outcome` column, the spin
 //!   trials beyond the frame tolerance say so, and the run exits 0 (issue 25.6; only a
@@ -100,8 +102,19 @@ fn same(got: f64, want: f64, what: &str) {
     );
 }
 
+/// A `me.csv` as `study/me.py` writes it: two finite points on the cantilever step (CPU
+/// times no method of the study reaches, so the panel's x axis must stretch to 1e3 for
+/// them), one on the free-free pulse, and one CVode gave up on (not drawn).
+const ME_CSV: &str = "scene,rtol,error_rel_peak,cpu_s_per_sim_s,outputs,compared_samples,note\n\
+    cantilever step,1e-04,2.5e-02,1.2e3,2245,2245,\n\
+    cantilever step,1e-08,6.8e-04,2.4e3,2245,2245,\n\
+    free-free pulse,1e-08,8.5e-04,2.0,2822,2822,\n\
+    truss pulse,1e-11,NaN,NaN,0,0,CVode gave up\n";
+
 fn run_quick() -> (PathBuf, String) {
     let out = std::env::temp_dir().join(format!("fxbody_study_smoke_{}", std::process::id()));
+    std::fs::create_dir_all(&out).unwrap();
+    std::fs::write(out.join("me.csv"), ME_CSV).unwrap();
     let fixtures = fixtures();
     let status = Command::new(env!("CARGO_BIN_EXE_fxbody-study"))
         .args(["--quick", "--fixtures"])
@@ -237,5 +250,22 @@ fn quick_study_matches_independent_references() {
     ] {
         assert!(svg.contains(panel), "no panel {panel}");
     }
+    // The Model Exchange points: one legend entry, a dot per finite point (black, the
+    // curve's colour; no method or peer uses it), the cantilever step panel's x axis
+    // stretched to their CPU times, and the table in study_results.md.
+    let label = ">Model Exchange + CVode (fmpy)</text>";
+    assert_eq!(svg.matches(label).count(), 1, "legend entry");
+    assert_eq!(
+        svg.matches(r##"r="2.8" fill="#000000"/>"##).count(),
+        3,
+        "Model Exchange points drawn"
+    );
+    assert!(svg.contains(">1e3</text>"), "x axis reaches 1e3 s/s");
+    let md = std::fs::read_to_string(out.join("study_results.md")).unwrap();
+    assert!(
+        md.contains("| cantilever step | 1e-8 | 6.80e-4 | 2.40e3 |  |")
+            && md.contains("| truss pulse | 1e-11 | NaN | NaN | CVode gave up |"),
+        "{md}"
+    );
     let _ = std::fs::remove_dir_all(&out);
 }

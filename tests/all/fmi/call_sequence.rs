@@ -25,6 +25,7 @@
 use std::collections::BTreeMap;
 use std::ptr::{null, null_mut};
 
+use super::matrix::{self, CsAt, Matrix};
 use crate::common::fmu::{
     AFTER, BEFORE, H, Packed, Slave, packed, print_counts, reference, run, same_bits,
 };
@@ -34,55 +35,9 @@ use fxbody::fmi::state::FmiState;
 use fxbody::fmi::types::*;
 use fxbody::fmi::values::*;
 
-/// The states a master can reach: where each case starts.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum At {
-    Instantiated,
-    InitializationMode,
-    StepComplete,
-    Terminated,
-    /// Error after a refused step in stepComplete.
-    Error,
-    /// Error after an illegal call in instantiated (no values exist yet).
-    ErrorEarly,
-}
-use At::*;
-const ALL: [At; 6] = [
-    Instantiated,
-    InitializationMode,
-    StepComplete,
-    Terminated,
-    Error,
-    ErrorEarly,
-];
-
-/// Reach `at` with a fresh instance (StepComplete and later after BEFORE steps).
-fn reach(fx: &Packed, at: At) -> Slave {
-    let s = Slave::new(fx, "matrix");
-    if at == Instantiated {
-        return s;
-    }
-    if at == ErrorEarly {
-        assert_eq!(s.do_step(0.0, H), fmi2Error);
-        return s;
-    }
-    assert_eq!(s.setup(0.0, None), fmi2OK);
-    // SAFETY: a live instance.
-    assert_eq!(unsafe { fmi2EnterInitializationMode(s.c) }, fmi2OK);
-    if at == InitializationMode {
-        return s;
-    }
-    // SAFETY: a live instance.
-    assert_eq!(unsafe { fmi2ExitInitializationMode(s.c) }, fmi2OK);
-    run(&s, fx, 0, BEFORE).unwrap();
-    match at {
-        // SAFETY: a live instance.
-        Terminated => assert_eq!(unsafe { fmi2Terminate(s.c) }, fmi2OK),
-        Error => assert_eq!(s.do_step(1.0, H), fmi2Error),
-        _ => {}
-    }
-    s
-}
+use CsAt::*;
+const ALL: [CsAt; 6] = matrix::CS_ALL;
+type At = CsAt;
 
 /// Valid arguments for every call, so that only the state makes a call illegal.
 struct Args {
@@ -95,23 +50,14 @@ struct Args {
     bytes: Vec<u8>,
 }
 
-type Call = fn(fmi2Component, &Args) -> fmi2Status;
-
 /// Every export taking a component, with the states where FMI 2.0 allows it (the
 /// standard's co-simulation table: in error, reads, output derivatives, FMU-state
 /// functions, SetDebugLogging, Reset and the status queries; a read in error only if
 /// the state before the error allows it).
-fn calls() -> Vec<(&'static str, &'static [At], Call)> {
+fn calls() -> Vec<matrix::Call<At, Args>> {
     const INS: &[At] = &[Instantiated, InitializationMode, StepComplete];
     const GETS: &[At] = &[InitializationMode, StepComplete, Terminated, Error];
-    const SAVE: &[At] = &[
-        Instantiated,
-        InitializationMode,
-        StepComplete,
-        Terminated,
-        Error,
-        ErrorEarly,
-    ];
+    const SAVE: &[At] = &ALL;
     const RESTORE: &[At] = SAVE;
     const OUT_DERIVS: &[At] = &[StepComplete, Terminated, Error];
     const STATUS: &[At] = &[StepComplete, Terminated, Error, ErrorEarly];
@@ -247,21 +193,6 @@ fn args(fx: &Packed, donor: &Slave) -> Args {
     }
 }
 
-/// After a refusal the instance says so (Error) and recovers by Reset: a full run from
-/// there equals the twin.
-fn recovers_by_reset(s: &Slave, fx: &Packed, twin: &[f64]) {
-    assert_eq!(s.fmi_state(), FmiState::Error);
-    // SAFETY: a live instance.
-    assert_eq!(unsafe { fmi2Reset(s.c) }, fmi2OK, "{}", s.last_error());
-    assert_eq!(s.setup(0.0, None), fmi2OK);
-    // SAFETY: a live instance.
-    unsafe {
-        assert_eq!(fmi2EnterInitializationMode(s.c), fmi2OK);
-        assert_eq!(fmi2ExitInitializationMode(s.c), fmi2OK);
-    }
-    assert!(same_bits(&run(s, fx, 0, twin.len()).unwrap(), twin));
-}
-
 #[test]
 fn every_call_in_every_state_where_it_is_illegal() {
     let fx = packed("matrix");
@@ -270,39 +201,24 @@ fn every_call_in_every_state_where_it_is_illegal() {
     run(&donor, &fx, 0, BEFORE).unwrap();
     let a = args(&fx, &donor);
     let mut counts = BTreeMap::new();
-    for (name, legal, call) in calls() {
-        for at in ALL {
-            if legal.contains(&at) {
-                continue;
-            }
-            let s = reach(&fx, at);
-            let before = s.fingerprint();
-            let n_msgs = s.messages().len();
-            let st = call(s.c, &a);
-            assert_eq!(st, fmi2Error, "{name} in {at:?}");
-            let new: Vec<_> = s.messages()[n_msgs..].to_vec();
-            let said = new.iter().any(|m| {
-                m.status == fmi2Error
-                    && (m
-                        .text
-                        .starts_with(&format!("{name}: illegal call in state"))
-                        || (name == "fmi2GetDirectionalDerivative"
-                            && m.text.contains("not provided")))
-            });
-            assert!(said, "{name} in {at:?}: logged {new:?}");
-            assert!(
-                s.fingerprint() == before,
-                "{name} in {at:?} changed the model"
-            );
-            recovers_by_reset(&s, &fx, &twin);
-            *counts.entry("illegal state").or_insert(0) += 1;
-        }
+    let reach = |at: At| matrix::reach_cs::<Slave>(&fx, at, "matrix");
+    let said = |name: &str, _: At, new: &[crate::common::fmu::Msg]| {
+        new.iter().any(|m| {
+            m.status == fmi2Error
+                && (m
+                    .text
+                    .starts_with(&format!("{name}: illegal call in state"))
+                    || (name == "fmi2GetDirectionalDerivative" && m.text.contains("not provided")))
+        })
+    };
+    let after = |s: &Slave, what: &str| matrix::recovers_by_reset(s, &fx, &twin, what);
+    Matrix {
+        legal_too: false,
+        ..Matrix::new(&ALL, &a, &reach, &said, &after)
     }
+    .run(&calls(), "illegal state", &mut counts);
     // A NULL component: refused by every function, nothing else happens.
-    for (name, _, call) in calls() {
-        assert_eq!(call(null_mut(), &a), fmi2Error, "{name}(NULL)");
-        *counts.entry("NULL component").or_insert(0) += 1;
-    }
+    matrix::null_refused(&calls(), &a, "NULL component", &mut counts);
     // SAFETY: NULL is explicitly allowed; static strings are returned.
     unsafe {
         fmi2FreeInstance(null_mut());

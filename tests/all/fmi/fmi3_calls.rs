@@ -24,7 +24,8 @@
 use std::collections::BTreeMap;
 use std::ptr::{null, null_mut};
 
-use crate::common::fmu::{BEFORE, H, Packed, Slave, Stepper, print_counts, run, same_bits};
+use super::matrix::{self, CsAt, Matrix};
+use crate::common::fmu::{BEFORE, H, Msg, Packed, Slave, Stepper, print_counts, run};
 use crate::common::fmu3::{Slave3, packed3};
 use fxbody::fmi::fmi3::clocks::*;
 use fxbody::fmi::fmi3::exports::*;
@@ -34,55 +35,12 @@ use fxbody::fmi::fmi3::non_numeric::*;
 use fxbody::fmi::fmi3::other_types::*;
 use fxbody::fmi::fmi3::types::*;
 use fxbody::fmi::fmi3::values::*;
-use fxbody::fmi::state::FmiState;
 
-/// The states a master can reach with a co-simulation instance of this FMU.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum At {
-    Instantiated,
-    InitializationMode,
-    StepMode,
-    Terminated,
-    /// After a refused fmi3DoStep in Step Mode.
-    Error,
-    /// After an illegal call in Instantiated (no values exist yet).
-    ErrorEarly,
-}
-use At::*;
-const ALL: [At; 6] = [
-    Instantiated,
-    InitializationMode,
-    StepMode,
-    Terminated,
-    Error,
-    ErrorEarly,
-];
-
-/// Reach `at` with a fresh instance (StepMode and later after BEFORE steps).
-fn reach(fx: &Packed, at: At) -> Slave3 {
-    let s = Slave3::new(fx, "matrix3");
-    if at == Instantiated {
-        return s;
-    }
-    if at == ErrorEarly {
-        assert_eq!(s.step(0.0, H).0, fmi3Error);
-        return s;
-    }
-    assert_eq!(s.enter_init(0.0, None), fmi3OK);
-    if at == InitializationMode {
-        return s;
-    }
-    // SAFETY: a live instance.
-    assert_eq!(unsafe { fmi3ExitInitializationMode(s.c) }, fmi3OK);
-    run(&s, fx, 0, BEFORE).unwrap();
-    match at {
-        // SAFETY: a live instance.
-        Terminated => assert_eq!(unsafe { fmi3Terminate(s.c) }, fmi3OK),
-        Error => assert_eq!(s.step(1.0, H).0, fmi3Error),
-        _ => {}
-    }
-    s
-}
+/// The states a master can reach with a co-simulation instance of this FMU (Step Mode
+/// is [`CsAt::StepComplete`]).
+type At = CsAt;
+use CsAt::{Error, InitializationMode, Instantiated, StepComplete as StepMode, Terminated};
+const ALL: [At; 6] = matrix::CS_ALL;
 
 /// Valid arguments for every call, so that only the state makes a call illegal.
 struct Args {
@@ -109,7 +67,7 @@ type Call = fn(fmi3Instance, &Args) -> fmi3Status;
 ///
 /// The typed getters and setters of types without variables are called with no value
 /// reference, which is legal where the type's functions are.
-fn calls() -> Vec<(&'static str, &'static [At], Call)> {
+fn calls() -> Vec<matrix::Call<At, Args>> {
     const SET: &[At] = &[Instantiated, InitializationMode, StepMode];
     const GET: &[At] = &[InitializationMode, StepMode, Terminated, Error];
     const ANY: &[At] = &ALL;
@@ -322,22 +280,6 @@ fn args(fx: &Packed, donor: &Slave3) -> Args {
     }
 }
 
-/// A refused call left the instance in Error, the model unchanged, and the instance
-/// recovers by fmi3Reset: a full run from there equals the twin.
-fn refused_cleanly(s: &Slave3, fx: &Packed, twin: &[f64], before: &[u8], what: &str) {
-    assert!(s.fingerprint() == before, "{what} changed the model");
-    assert_eq!(s.fmi_state(), FmiState::Error, "{what}");
-    // SAFETY: a live instance.
-    assert_eq!(unsafe { fmi3Reset(s.c) }, fmi3OK, "{}", s.last_error());
-    assert_eq!(s.enter_init(0.0, None), fmi3OK);
-    // SAFETY: a live instance.
-    assert_eq!(unsafe { fmi3ExitInitializationMode(s.c) }, fmi3OK);
-    assert!(
-        same_bits(&run(s, fx, 0, twin.len()).unwrap(), twin),
-        "{what}"
-    );
-}
-
 /// The undisturbed twin, run through FMI 3.0.
 fn twin(fx: &Packed) -> Vec<f64> {
     let r = run(&Slave3::started(fx, None), fx, 0, 2 * BEFORE).unwrap();
@@ -353,61 +295,38 @@ fn every_fmi3_call_in_every_state() {
     run(&donor, &fx, 0, BEFORE).unwrap();
     let a = args(&fx, &donor);
     let mut counts = BTreeMap::new();
-    for (name, legal, call) in calls() {
-        for at in ALL {
-            let s = reach(&fx, at);
-            let before = s.fingerprint();
-            let n_msgs = s.messages().len();
-            let st = call(s.c, &a);
-            let new: Vec<_> = s.messages()[n_msgs..].to_vec();
-            let illegal = format!("{name}: illegal call in state");
-            let said_illegal = new
-                .iter()
-                .any(|m| m.status == fmi3Error && m.text.contains(&illegal));
-            if legal.contains(&at) {
-                // Allowed: done (fmi3OK), never refused for the state.
-                assert_eq!(st, fmi3OK, "{name} in {at:?}: {new:?}");
-                assert!(!said_illegal, "{name} in {at:?}: {new:?}");
-                *counts.entry("legal").or_insert(0) += 1;
-            } else {
-                assert_eq!(st, fmi3Error, "{name} in {at:?}");
-                // `method` is a fixed parameter: in Step Mode the setter is legal but
-                // the variable refuses, saying so.
-                let fixed = name == "fmi3SetInt32"
-                    && at == StepMode
-                    && new.iter().any(|m| m.text.contains("is a fixed parameter"));
-                assert!(said_illegal || fixed, "{name} in {at:?}: logged {new:?}");
-                refused_cleanly(&s, &fx, &twin, &before, &format!("{name} in {at:?}"));
-                *counts.entry("illegal state").or_insert(0) += 1;
-            }
-        }
-    }
-    for (name, call) in not_provided() {
-        for at in ALL {
-            let s = reach(&fx, at);
-            let before = s.fingerprint();
-            let n_msgs = s.messages().len();
-            assert_eq!(call(s.c, &a), fmi3Error, "{name} in {at:?}");
-            let new: Vec<_> = s.messages()[n_msgs..].to_vec();
-            assert!(
-                new.iter().any(|m| m.status == fmi3Error
-                    && m.text.contains(&format!("{name}: "))
-                    && m.text.len() > name.len() + 30),
-                "{name} in {at:?}: logged {new:?}"
-            );
-            refused_cleanly(&s, &fx, &twin, &before, &format!("{name} in {at:?}"));
-            *counts.entry("not provided").or_insert(0) += 1;
-        }
-    }
+    let reach = |at: At| matrix::reach_cs::<Slave3>(&fx, at, "matrix3");
+    let after = |s: &Slave3, what: &str| matrix::recovers_by_reset(s, &fx, &twin, what);
+    let said = |name: &str, at: At, new: &[Msg]| {
+        let illegal = format!("{name}: illegal call in state");
+        new.iter()
+            .any(|m| m.status == fmi3Error && m.text.contains(&illegal))
+            // `method` is a fixed parameter: in Step Mode the setter is legal but the
+            // variable refuses, saying so.
+            || (name == "fmi3SetInt32"
+                && at == StepMode
+                && new.iter().any(|m| m.text.contains("is a fixed parameter")))
+    };
+    Matrix::new(&ALL, &a, &reach, &said, &after).run(&calls(), "illegal state", &mut counts);
+    let not_provided: Vec<matrix::Call<At, Args>> = not_provided()
+        .into_iter()
+        .map(|(name, call)| (name, &[] as &[At], call))
+        .collect();
+    let said_why = |name: &str, _: At, new: &[Msg]| {
+        new.iter().any(|m| {
+            m.status == fmi3Error
+                && m.text.contains(&format!("{name}: "))
+                && m.text.len() > name.len() + 30
+        })
+    };
+    Matrix::new(&ALL, &a, &reach, &said_why, &after).run(
+        &not_provided,
+        "not provided",
+        &mut counts,
+    );
     // A NULL instance: refused by every function, nothing else happens.
-    for (name, _, call) in calls() {
-        assert_eq!(call(null_mut(), &a), fmi3Error, "{name}(NULL)");
-        *counts.entry("NULL instance").or_insert(0) += 1;
-    }
-    for (name, call) in not_provided() {
-        assert_eq!(call(null_mut(), &a), fmi3Error, "{name}(NULL)");
-        *counts.entry("NULL instance").or_insert(0) += 1;
-    }
+    matrix::null_refused(&calls(), &a, "NULL instance", &mut counts);
+    matrix::null_refused(&not_provided, &a, "NULL instance", &mut counts);
     // SAFETY: NULL is explicitly allowed; a static string is returned.
     unsafe {
         fmi3FreeInstance(null_mut());

@@ -9,6 +9,7 @@ mod fmi3_calls;
 mod fmi3_runs;
 mod header;
 mod host_abi;
+mod matrix;
 mod me;
 mod me_exports;
 mod me_free;
