@@ -1,3 +1,4 @@
 //! The repository's documentation.
 
 mod citations;
+mod dependencies;
